@@ -1,0 +1,81 @@
+# Entry points: `make run` and `make test` set up everything they need on a fresh
+# Debian machine (apt packages when missing, a venv at .venv, npm packages).
+SHELL := /bin/bash
+.DEFAULT_GOAL := help
+
+BUILD   := build
+VENV    := .venv
+PY      := $(VENV)/bin/python
+JOBS    ?= $(shell nproc)
+SCENES  := $(BUILD)/scenes
+OUT     := out
+
+APT_PACKAGES := cmake ninja-build g++ ccache pkg-config git python3 python3-venv python3-dev \
+  libopenimageio-dev libglm-dev libtinygltf-dev libtinyobjloader-dev libstb-dev \
+  nlohmann-json3-dev libprotobuf-dev protobuf-compiler libgtest-dev libembree-dev
+
+CMAKE_FLAGS := -G Ninja -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=$(abspath $(PY))
+export CCACHE_DIR ?= $(HOME)/.cache/ccache
+
+.PHONY: help deps venv build build-asan samples test test-cpp test-asan test-py run bench clean
+
+help:
+	@echo "make run    render the sample scenes to $(OUT)/"
+	@echo "make test   build everything and run every test"
+	@echo "make build  build the renderer, rtrender and rtcore"
+	@echo "make bench  benchmarks (BVH against Embree)"
+
+# apt packages, installed only when missing.
+$(BUILD)/.deps: Makefile
+	@mkdir -p $(BUILD)
+	@missing=$$(for p in $(APT_PACKAGES); do dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  echo "Installing apt packages:" $$missing; \
+	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing >/dev/null; \
+	fi
+	@# Node may come from elsewhere than Debian (its npm then conflicts with Debian's).
+	@command -v npm >/dev/null || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq nodejs npm >/dev/null; }
+	@touch $@
+deps: $(BUILD)/.deps
+
+$(VENV)/.stamp: requirements.txt $(BUILD)/.deps
+	@test -x $(PY) || python3 -m venv $(VENV)
+	$(PY) -m pip install -q --disable-pip-version-check -r requirements.txt
+	@touch $@
+venv: $(VENV)/.stamp
+
+# One CMake tree builds the library, rtrender, the tests, rtcore and the
+# benchmark; .venv sees rtcore and the generated proto code through a .pth file.
+build: $(VENV)/.stamp
+	@test -f $(BUILD)/renderer/build.ninja || cmake -S renderer -B $(BUILD)/renderer $(CMAKE_FLAGS) >/dev/null
+	cmake --build $(BUILD)/renderer -j $(JOBS)
+	@echo "$(abspath $(BUILD)/renderer/python)" > $$($(PY) -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')/rtcore.pth
+
+# The loader and intersection tests again under AddressSanitizer + UBSan.
+build-asan: $(VENV)/.stamp
+	@test -f $(BUILD)/asan/build.ninja || cmake -S renderer -B $(BUILD)/asan -G Ninja -DCMAKE_BUILD_TYPE=Debug \
+	  -DRT_SANITIZE=ON -DRT_PYTHON=OFF -DRT_BENCH=OFF >/dev/null
+	cmake --build $(BUILD)/asan -j $(JOBS) --target rt_tests
+
+samples: $(VENV)/.stamp
+	$(PY) renderer/samples/make_samples.py --out $(SCENES)
+
+test-cpp: build samples
+	cd $(BUILD)/renderer && ctest --output-on-failure -j $(JOBS)
+
+test-asan: build-asan samples
+	cd $(BUILD)/asan && ASAN_OPTIONS=detect_leaks=1 ctest --output-on-failure -j $(JOBS) -R 'Loader|Triangle|Sphere|Spawn|Intersect'
+
+test-py: build samples
+	$(PY) -m pytest -q tests
+
+test: test-cpp test-asan test-py
+
+run: build samples
+	$(PY) renderer/samples/render_samples.py --scenes $(SCENES) --out $(OUT) --rtrender $(BUILD)/rtrender
+
+bench: build samples
+	$(BUILD)/renderer/bvh_bench --scenes $(SCENES)
+
+clean:
+	rm -rf $(BUILD) $(OUT)

@@ -1,0 +1,191 @@
+#include "accel.h"
+
+#include <chrono>
+#include <cstdlib>
+
+#include "bvh/binned_sah_builder.h"
+#include "bvh/traverse.h"
+#include "triangle.h"
+
+namespace rt {
+namespace {
+
+// SAH cost of a node visit relative to one watertight triangle test, as
+// measured on the sample scenes (see bench/bvh_bench.cpp).
+constexpr float kTraversalCost = 1.0f;
+
+// Observers of what a traversal does, for the debugger; the plain queries use
+// bvh::NoObserver and a leaf test that counts nothing.
+struct CountingObserver {
+    TraversalStats& stats;
+    void visit_node(uint32_t) { ++stats.nodes_visited; }
+    void test_triangles(uint32_t count) { stats.triangles_tested += count; }
+};
+
+struct RecordingObserver {
+    TraversalRecord& record;
+    void visit_node(uint32_t node) {
+        ++record.nodes_visited;
+        record.visited_nodes.push_back(node);
+    }
+    void test_triangles(uint32_t count) { record.triangles_tested += count; }
+};
+
+struct SilentObserver : bvh::NoObserver {
+    void test_triangles(uint32_t) {}
+};
+
+// intersect_triangle reads vertex coordinates through the ray's axis
+// permutation; known only at run time, every such read compiles to a chain of
+// branches. Calling f with a copy of the ray whose permutation (one of six) is
+// a compile-time constant folds them away; the values stay the same.
+template <typename F>
+[[gnu::always_inline]] inline auto with_constant_axes(const WatertightRay& ray, F&& f) {
+    auto call = [&]<int kz, bool swapped>() {
+        WatertightRay constant = ray;
+        constant.kz = kz;
+        constant.kx = swapped ? (kz + 2) % 3 : (kz + 1) % 3;
+        constant.ky = swapped ? (kz + 1) % 3 : (kz + 2) % 3;
+        return f(constant);
+    };
+    const bool swapped = ray.kx != (ray.kz + 1) % 3;
+    switch (2 * ray.kz + swapped) {
+        case 0: return call.template operator()<0, false>();
+        case 1: return call.template operator()<0, true>();
+        case 2: return call.template operator()<1, false>();
+        case 3: return call.template operator()<1, true>();
+        case 4: return call.template operator()<2, false>();
+        default: return call.template operator()<2, true>();
+    }
+}
+
+}  // namespace
+
+Accelerator::Accelerator(const Scene& scene, unsigned threads) : scene_(scene) {
+    const auto start = std::chrono::steady_clock::now();
+    const size_t count = scene.triangles.size();
+    std::vector<Bounds3> triangle_bounds(count);
+    std::vector<vec3> centroids(count);
+    for (size_t i = 0; i < count; ++i) {
+        Bounds3 b;
+        for (int k = 0; k < 3; ++k) b.extend(scene.positions[scene.triangles[i][k]]);
+        triangle_bounds[i] = b;
+        centroids[i] = b.center();
+    }
+    bvh::BuildOptions options;
+    options.traversal_cost = getenv("RT_TC") ? atof(getenv("RT_TC")) : kTraversalCost;
+    if (getenv("RT_BINS")) options.bin_count = atoi(getenv("RT_BINS"));
+    if (getenv("RT_LEAF")) options.max_leaf_size = atoi(getenv("RT_LEAF"));
+    options.threads = threads;
+    bvh_ = bvh::build_binned_sah(triangle_bounds, centroids, options);
+
+    ordered_vertices_.reserve(3 * count);
+    for (uint32_t id : bvh_.prim_ids)
+        for (int k = 0; k < 3; ++k) ordered_vertices_.push_back(scene.positions[scene.triangles[id][k]]);
+
+    bvh::g_leaf_data = (const char*)ordered_vertices_.data();
+    stats_.triangles = count;
+    stats_.nodes = bvh_.nodes.size();
+    stats_.leaves = bvh_.leaf_count();
+    stats_.depth = bvh_.depth;
+    stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    stats_.sah_cost = bvh_.sah_cost(kTraversalCost);
+}
+
+template <typename Observer>
+[[gnu::flatten]] bool Accelerator::closest_hit(const Ray& ray, Hit& hit, Observer&& observer) const {
+    // Spheres first: their hit shortens the ray the BVH has to follow.
+    Ray clipped = ray;
+    for (size_t s = 0; s < scene_.spheres.size(); ++s) {
+        float t;
+        if (intersect_sphere(clipped, scene_.spheres[s], t)) {
+            clipped.t_max = t;
+            hit = {t, uint32_t(scene_.triangles.size() + s), 0.0f, 0.0f};
+        }
+    }
+
+    uint32_t nearest = kNoPrimitive;  // index into ordered_vertices_ / 3
+    TriangleHit nearest_hit{};
+    const bool found_triangle = with_constant_axes(WatertightRay(ray), [&](const WatertightRay& watertight) {
+        return bvh::traverse<bvh::Query::closest_hit>(
+            bvh_, clipped,
+            [&](uint32_t first, uint32_t count, float& t_max) {
+                observer.test_triangles(count);
+                bool found = false;
+                for (uint32_t i = first; i < first + count; ++i) {
+                    const vec3* v = &ordered_vertices_[3 * size_t(i)];
+                    if (intersect_triangle(watertight, v[0], v[1], v[2], t_max, nearest_hit)) {
+                        t_max = nearest_hit.t;
+                        nearest = i;
+                        found = true;
+                    }
+                }
+                return found;
+            },
+            observer);
+    });
+    if (found_triangle) {
+        hit = {nearest_hit.t, bvh_.prim_ids[nearest], nearest_hit.u, nearest_hit.v};
+        return true;
+    }
+    return hit.found();
+}
+
+template <typename Observer>
+[[gnu::flatten]] bool Accelerator::any_hit(const Ray& ray, Observer&& observer) const {
+    for (const Sphere& sphere : scene_.spheres) {
+        float t;
+        if (intersect_sphere(ray, sphere, t)) return true;
+    }
+    return with_constant_axes(WatertightRay(ray), [&](const WatertightRay& watertight) {
+        return bvh::traverse<bvh::Query::any_hit>(
+            bvh_, ray,
+            [&](uint32_t first, uint32_t count, float& t_max) {
+                observer.test_triangles(count);
+                TriangleHit ignored;
+                for (uint32_t i = first; i < first + count; ++i) {
+                    const vec3* v = &ordered_vertices_[3 * size_t(i)];
+                    if (intersect_triangle(watertight, v[0], v[1], v[2], t_max, ignored)) return true;
+                }
+                return false;
+            },
+            observer);
+    });
+}
+
+bool Accelerator::intersect(const Ray& ray, Hit& hit) const {
+    hit = Hit{};
+    return closest_hit(ray, hit, SilentObserver{});
+}
+
+bool Accelerator::intersect(const Ray& ray, Hit& hit, TraversalStats& stats) const {
+    hit = Hit{};
+    return closest_hit(ray, hit, CountingObserver{stats});
+}
+
+bool Accelerator::intersect(const Ray& ray, Hit& hit, TraversalRecord& record) const {
+    hit = Hit{};
+    return closest_hit(ray, hit, RecordingObserver{record});
+}
+
+bool Accelerator::occluded(const Ray& ray) const { return any_hit(ray, SilentObserver{}); }
+
+bool Accelerator::occluded(const Ray& ray, TraversalRecord& record) const {
+    return any_hit(ray, RecordingObserver{record});
+}
+
+Accelerator::LevelBoxes Accelerator::boxes(int level) const {
+    LevelBoxes boxes;
+    const std::vector<uint32_t> levels = bvh_.node_levels();
+    const std::vector<uint32_t> triangles = bvh_.subtree_prim_counts();
+    for (uint32_t i = 0; i < bvh_.nodes.size(); ++i) {
+        const bool wanted = level < 0 ? bvh_.nodes[i].is_leaf() : levels[i] == uint32_t(level);
+        if (!wanted) continue;
+        boxes.nodes.push_back(i);
+        boxes.bounds.push_back(bvh_.nodes[i].bounds());
+        boxes.triangles.push_back(triangles[i]);
+    }
+    return boxes;
+}
+
+}  // namespace rt

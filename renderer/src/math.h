@@ -1,0 +1,36 @@
+// Vector types and the few numeric helpers every part of the renderer shares.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+
+#include <glm/glm.hpp>
+
+namespace rt {
+
+using vec2 = glm::vec2;
+using vec3 = glm::vec3;
+using dvec3 = glm::dvec3;
+using uvec3 = glm::uvec3;
+using mat3 = glm::mat3;
+using mat4 = glm::mat4;
+using dmat4 = glm::dmat4;
+
+inline constexpr float kInfinity = std::numeric_limits<float>::infinity();
+inline constexpr float kPi = 3.14159265358979323846f;
+
+// Bound on the relative rounding error of n chained float operations
+// (pbrt-v4, "Floating-Point Arithmetic": gamma(n) = n u / (1 - n u)).
+constexpr float gamma_bound(int n) {
+    constexpr float u = std::numeric_limits<float>::epsilon() * 0.5f;
+    return (n * u) / (1 - n * u);
+}
+
+inline float max_component(vec3 v) { return glm::max(v.x, glm::max(v.y, v.z)); }
+inline int max_dimension(vec3 v) { return v.x > v.y ? (v.x > v.z ? 0 : 2) : (v.y > v.z ? 1 : 2); }
+
+inline bool is_finite(vec3 v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+}  // namespace rt

@@ -1,0 +1,31 @@
+// A ray and what a closest-hit query returns.
+#pragma once
+
+#include "math.h"
+
+namespace rt {
+
+// direction is unit length wherever the renderer makes rays, so t is a distance.
+struct Ray {
+    vec3 origin{0.0f};
+    vec3 direction{0.0f, 0.0f, 1.0f};
+    float t_max = kInfinity;
+
+    vec3 at(float t) const { return origin + t * direction; }
+};
+
+inline constexpr uint32_t kNoPrimitive = 0xffffffffu;
+
+// Primitives are numbered triangles first, then spheres. (u, v) are the
+// barycentric weights of a triangle's second and third vertex, or the sphere's
+// (unused) parametrisation.
+struct Hit {
+    float t = kInfinity;
+    uint32_t primitive = kNoPrimitive;
+    float u = 0.0f;
+    float v = 0.0f;
+
+    bool found() const { return primitive != kNoPrimitive; }
+};
+
+}  // namespace rt

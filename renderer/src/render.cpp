@@ -1,0 +1,116 @@
+#include "render.h"
+
+#include <algorithm>
+#include <atomic>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "proto_limits.h"
+#include "sampling.h"
+
+namespace rt {
+namespace {
+
+RenderSettings checked(RenderSettings settings) {
+    apply_limits(settings, "settings");
+    return settings;
+}
+
+Camera checked(Camera camera) {
+    apply_limits(camera, "camera");
+    return camera;
+}
+
+}  // namespace
+
+unsigned resolve_thread_count(unsigned requested) {
+    return requested != 0 ? requested : std::max(1u, std::thread::hardware_concurrency());
+}
+
+Renderer::Renderer(const Accelerator& accel, RenderSettings settings, Camera camera)
+    : settings_(checked(std::move(settings))),
+      camera_(checked(std::move(camera))),
+      pinhole_(camera_, settings_.width(), settings_.height()),
+      integrator_(accel, settings_) {}
+
+uint32_t Renderer::pixel_key(uint32_t x, uint32_t y) { return hash_combine(mix_bits(x), y); }
+
+Ray Renderer::camera_ray(uint32_t x, uint32_t y) const {
+    return pinhole_.generate_ray(float(x) + 0.5f, float(y) + 0.5f);
+}
+
+RayCounts Renderer::render_tile(const Tile& tile, float* rgb) const {
+    if (tile.width == 0 || tile.height == 0 || tile.x >= settings_.width() || tile.y >= settings_.height() ||
+        tile.width > settings_.width() - tile.x || tile.height > settings_.height() - tile.y)
+        throw std::invalid_argument("tile (" + std::to_string(tile.x) + ", " + std::to_string(tile.y) + ", " +
+                                    std::to_string(tile.width) + "x" + std::to_string(tile.height) +
+                                    ") is not inside the " + std::to_string(settings_.width()) + "x" +
+                                    std::to_string(settings_.height()) + " image");
+    RayCounts counts;
+    for (uint32_t j = 0; j < tile.height; ++j) {
+        for (uint32_t i = 0; i < tile.width; ++i) {
+            const uint32_t x = tile.x + i, y = tile.y + j;
+            const vec3 c = integrator_.radiance(camera_ray(x, y), pixel_key(x, y), counts);
+            float* out = rgb + (size_t(j) * tile.width + i) * 3;
+            out[0] = c.r;
+            out[1] = c.g;
+            out[2] = c.b;
+        }
+    }
+    return counts;
+}
+
+Image Renderer::render(unsigned threads, uint32_t tile_size, const ProgressCallback& progress,
+                       RayCounts& counts) const {
+    if (tile_size == 0) throw std::invalid_argument("tile size must be at least 1");
+    const uint32_t width = settings_.width(), height = settings_.height();
+    Image image(width, height);
+    std::vector<Tile> tiles;
+    for (uint32_t y = 0; y < height; y += tile_size)
+        for (uint32_t x = 0; x < width; x += tile_size)
+            tiles.push_back({x, y, std::min(tile_size, width - x), std::min(tile_size, height - y)});
+
+    std::atomic<size_t> next{0};
+    std::mutex mutex;  // guards counts, done and the progress callback
+    size_t done = 0;
+    auto work = [&] {
+        std::vector<float> buffer;
+        RayCounts local;
+        for (size_t index; (index = next.fetch_add(1)) < tiles.size();) {
+            const Tile& tile = tiles[index];
+            buffer.resize(size_t(tile.width) * tile.height * 3);
+            local += render_tile(tile, buffer.data());
+            for (uint32_t j = 0; j < tile.height; ++j)
+                std::copy_n(&buffer[size_t(j) * tile.width * 3], size_t(tile.width) * 3,
+                            &image.rgb[(size_t(tile.y + j) * width + tile.x) * 3]);
+            std::lock_guard lock(mutex);
+            ++done;
+            if (progress) progress(done, tiles.size());
+        }
+        std::lock_guard lock(mutex);
+        counts += local;
+    };
+    std::vector<std::thread> pool;
+    const unsigned n = std::min<size_t>(resolve_thread_count(threads), tiles.size());
+    for (unsigned t = 1; t < n; ++t) pool.emplace_back(work);
+    work();
+    for (auto& thread : pool) thread.join();
+    return image;
+}
+
+DebugPath Renderer::debug_pixel(uint32_t x, uint32_t y) const {
+    if (x >= settings_.width() || y >= settings_.height())
+        throw std::invalid_argument("pixel (" + std::to_string(x) + ", " + std::to_string(y) +
+                                    ") is outside the " + std::to_string(settings_.width()) + "x" +
+                                    std::to_string(settings_.height()) + " image");
+    DebugPath path;
+    path.set_pixel_x(x);
+    path.set_pixel_y(y);
+    integrator_.radiance(camera_ray(x, y), pixel_key(x, y), path);
+    return path;
+}
+
+}  // namespace rt

@@ -1,0 +1,57 @@
+// A scene as the renderer sees it: world-space triangles with per-vertex
+// attributes, analytic spheres, Phong materials, lights and cameras. The loaders
+// (loader.h) build one from glTF or OBJ; nothing here knows about file formats.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "bounds.h"
+#include "material.h"
+#include "math.h"
+#include "rt/render.pb.h"
+#include "sphere.h"
+
+namespace rt {
+
+// A point light (radius 0) or a spherical light. `intensity` is colour times
+// candela: irradiance at distance d is intensity / d^2.
+struct Light {
+    std::string name;
+    vec3 position{0.0f};
+    vec3 intensity{1.0f};
+    float radius = 0.0f;
+};
+
+struct SceneCamera {
+    std::string name;
+    Camera camera;  // the proto message: position, target, up, fov_y
+};
+
+struct Scene {
+    // Vertex attributes, all indexed by the same vertex index. `texcoords` is
+    // empty when no mesh has any; `normals` always has one per vertex.
+    std::vector<vec3> positions;
+    std::vector<vec3> normals;
+    std::vector<vec2> texcoords;
+
+    std::vector<uvec3> triangles;            // vertex indices
+    std::vector<uint32_t> triangle_materials; // one per triangle
+
+    std::vector<Sphere> spheres;
+    std::vector<Material> materials;
+    std::vector<Texture> textures;
+    std::vector<Light> lights;
+    std::vector<SceneCamera> cameras;
+    vec3 background{0.0f};
+
+    // What the loader noticed and repaired or skipped, for the user.
+    std::vector<std::string> warnings;
+    size_t degenerate_triangles = 0;  // dropped because no ray can hit them
+
+    size_t primitive_count() const { return triangles.size() + spheres.size(); }
+    Bounds3 bounds() const;
+};
+
+}  // namespace rt

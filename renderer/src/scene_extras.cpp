@@ -1,0 +1,55 @@
+#include "scene_extras.h"
+
+#include <stdexcept>
+
+#include "proto_limits.h"
+#include "rt/scene.pb.h"
+
+namespace rt {
+namespace {
+
+// A repeated field of count 3 (checked by the schema's limits), or `fallback`
+// when absent.
+vec3 vector_or(const google::protobuf::RepeatedField<float>& values, vec3 fallback) {
+    return values.size() == 3 ? vec3(values[0], values[1], values[2]) : fallback;
+}
+
+}  // namespace
+
+SceneAdditions read_scene_extras(std::string_view json, const std::string& source) {
+    SceneExtras extras;
+    parse_json_message(json, extras, source);
+    // A sphere without a material gets the schema's default one.
+    for (auto& sphere : *extras.mutable_spheres())
+        if (!sphere.has_material()) apply_limits(*sphere.mutable_material(), source);
+
+    SceneAdditions additions;
+    const Material defaults;
+    for (int i = 0; i < extras.spheres_size(); ++i) {
+        const auto& sphere = extras.spheres(i);
+        const auto& phong = sphere.material();
+        Material material;
+        material.name = source + ".spheres[" + std::to_string(i) + "]";
+        material.diffuse = vector_or(phong.diffuse(), defaults.diffuse);
+        material.specular = vector_or(phong.specular(), defaults.specular);
+        material.shininess = phong.shininess();
+        material.reflectance = vector_or(phong.reflectance(), defaults.reflectance);
+        additions.spheres.push_back({vector_or(sphere.center(), vec3(0.0f)), sphere.radius(), std::move(material)});
+    }
+    for (int i = 0; i < extras.lights_size(); ++i) {
+        const auto& light = extras.lights(i);
+        const std::string name = source + ".lights[" + std::to_string(i) + "]";
+        const vec3 intensity = vector_or(light.color(), vec3(1.0f)) * light.intensity();
+        if (!is_finite(intensity)) throw std::invalid_argument(name + ": color times intensity is not finite");
+        additions.lights.push_back({name, vector_or(light.position(), vec3(0.0f)), intensity, light.radius()});
+    }
+    if (extras.background_size() == 3) additions.background = vector_or(extras.background(), vec3(0.0f));
+    for (int i = 0; i < extras.cameras_size(); ++i) {
+        const auto& camera = extras.cameras(i);
+        const std::string name = camera.name().empty() ? source + ".cameras[" + std::to_string(i) + "]" : camera.name();
+        additions.cameras.push_back({name, camera.camera()});
+    }
+    return additions;
+}
+
+}  // namespace rt

@@ -1,0 +1,45 @@
+#include "surface.h"
+
+#include "sphere.h"
+
+namespace rt {
+
+SurfaceHit surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
+    SurfaceHit s;
+    const size_t triangle_count = scene.triangles.size();
+    if (hit.primitive >= triangle_count) {
+        const Sphere& sphere = scene.spheres[hit.primitive - triangle_count];
+        s.p = sphere_point(sphere, ray, hit.t, s.p_error);
+        s.ng = glm::normalize(s.p - sphere.center);
+        s.ns = s.ng;
+        s.material = sphere.material;
+        return s;
+    }
+
+    const uvec3 tri = scene.triangles[hit.primitive];
+    const vec3 p0 = scene.positions[tri.x], p1 = scene.positions[tri.y], p2 = scene.positions[tri.z];
+    const float b0 = 1.0f - hit.u - hit.v;
+    s.p = b0 * p0 + hit.u * p1 + hit.v * p2;
+    s.p_error = gamma_bound(7) * (glm::abs(b0 * p0) + glm::abs(hit.u * p1) + glm::abs(hit.v * p2));
+    s.ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+
+    const vec3 n = b0 * scene.normals[tri.x] + hit.u * scene.normals[tri.y] + hit.v * scene.normals[tri.z];
+    const float length = glm::length(n);
+    s.ns = length > 0.0f && std::isfinite(length) ? n / length : s.ng;
+    if (!scene.texcoords.empty())
+        s.uv = b0 * scene.texcoords[tri.x] + hit.u * scene.texcoords[tri.y] + hit.v * scene.texcoords[tri.z];
+    s.material = scene.triangle_materials[hit.primitive];
+    return s;
+}
+
+void face_viewer(SurfaceHit& s, vec3 towards_viewer) {
+    // The winding may disagree with the authored normals; the normals win.
+    if (glm::dot(s.ns, s.ng) < 0.0f) s.ng = -s.ng;
+    if (glm::dot(s.ng, towards_viewer) < 0.0f) {
+        s.ng = -s.ng;
+        s.ns = -s.ns;
+    }
+    if (glm::dot(s.ns, towards_viewer) <= 0.0f) s.ns = s.ng;
+}
+
+}  // namespace rt

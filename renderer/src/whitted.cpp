@@ -1,0 +1,211 @@
+#include "whitted.h"
+
+#include <cmath>
+
+#include "sampling.h"
+#include "spawn.h"
+
+namespace rt {
+namespace {
+
+// The hot path: counts rays, records nothing.
+struct CountingRecorder {
+    RayCounts& counts;
+
+    int closest(const Accelerator& accel, const Ray& ray, RayKind kind, uint32_t, int, vec3, Hit& hit) {
+        (kind == PRIMARY ? counts.camera : counts.reflection) += 1;
+        accel.intersect(ray, hit);
+        return -1;
+    }
+    int shadow(const Accelerator& accel, const Ray& ray, uint32_t, int, bool& occluded) {
+        ++counts.shadow;
+        occluded = accel.occluded(ray);
+        return -1;
+    }
+    void surface(int, const SurfaceHit&, const Hit&, const Material&) {}
+    void contribution(int, vec3) {}
+};
+
+void set_vec3(google::protobuf::RepeatedField<float>* field, vec3 v) {
+    field->Clear();
+    field->Add(v.x);
+    field->Add(v.y);
+    field->Add(v.z);
+}
+
+// The debugger's view: every ray as a segment, with the BVH nodes it visited.
+struct DebugRecorder {
+    DebugPath& path;
+    float miss_length;
+
+    RaySegment& add(const Ray& ray, RayKind kind, uint32_t depth, int parent, const TraversalRecord& record) {
+        RaySegment& segment = *path.add_segments();
+        set_vec3(segment.mutable_origin(), ray.origin);
+        segment.set_kind(kind);
+        segment.set_depth(depth);
+        segment.set_parent(parent);
+        segment.mutable_visited_nodes()->Add(record.visited_nodes.begin(), record.visited_nodes.end());
+        segment.set_triangles_tested(record.triangles_tested);
+        return segment;
+    }
+
+    int closest(const Accelerator& accel, const Ray& ray, RayKind kind, uint32_t depth, int parent,
+                vec3 weight, Hit& hit) {
+        TraversalRecord record;
+        const bool found = accel.intersect(ray, hit, record);
+        RaySegment& segment = add(ray, kind, depth, parent, record);
+        segment.set_outcome(found ? HIT : MISS);
+        const float t = found ? hit.t : miss_length;
+        segment.set_t(t);
+        set_vec3(segment.mutable_end(), ray.at(t));
+        set_vec3(segment.mutable_weight(), weight);
+        return path.segments_size() - 1;
+    }
+    int shadow(const Accelerator& accel, const Ray& ray, uint32_t depth, int parent, bool& occluded) {
+        TraversalRecord record;
+        occluded = accel.occluded(ray, record);
+        RaySegment& segment = add(ray, SHADOW, depth, parent, record);
+        segment.set_outcome(occluded ? OCCLUDED : REACHED_LIGHT);
+        segment.set_t(ray.t_max);
+        set_vec3(segment.mutable_end(), ray.at(ray.t_max));
+        return path.segments_size() - 1;
+    }
+    void surface(int index, const SurfaceHit& s, const Hit& hit, const Material& m) {
+        RaySegment& segment = *path.mutable_segments(index);
+        set_vec3(segment.mutable_end(), s.p);
+        set_vec3(segment.mutable_normal(), s.ns);
+        segment.set_material(int32_t(s.material));
+        segment.set_material_name(m.name);
+        segment.set_primitive(hit.primitive);
+    }
+    void contribution(int index, vec3 c) { set_vec3(path.mutable_segments(index)->mutable_contribution(), c); }
+};
+
+}  // namespace
+
+vec3 phong_brdf(vec3 diffuse, vec3 specular, float shininess, vec3 n, vec3 wo, vec3 wi) {
+    vec3 f = diffuse / kPi;
+    if (specular != vec3(0.0f)) {
+        const float cos_alpha = glm::dot(glm::reflect(-wi, n), wo);
+        if (cos_alpha > 0.0f)
+            f += specular * ((shininess + 2.0f) / (2.0f * kPi) * std::pow(cos_alpha, shininess));
+    }
+    return f;
+}
+
+WhittedIntegrator::WhittedIntegrator(const Accelerator& accel, const RenderSettings& settings)
+    : accel_(accel),
+      scene_(accel.scene()),
+      max_depth_(settings.max_depth()),
+      min_contribution_(settings.min_contribution()),
+      light_samples_(settings.light_samples()) {}
+
+vec3 WhittedIntegrator::radiance(const Ray& ray, uint32_t pixel_key, RayCounts& counts) const {
+    CountingRecorder recorder{counts};
+    return trace(ray, 0, vec3(1.0f), -1, pixel_key, recorder);
+}
+
+vec3 WhittedIntegrator::radiance(const Ray& ray, uint32_t pixel_key, DebugPath& path) const {
+    const Bounds3 bounds = scene_.bounds();
+    const float extent = bounds.empty() ? 1.0f : glm::length(bounds.extent());
+    const float reach = bounds.empty() ? 1.0f : glm::length(bounds.center() - ray.origin);
+    DebugRecorder recorder{path, reach + extent};
+    const vec3 color = trace(ray, 0, vec3(1.0f), -1, pixel_key, recorder);
+    set_vec3(path.mutable_color(), color);
+    return color;
+}
+
+template <class Recorder>
+vec3 WhittedIntegrator::trace(const Ray& ray, uint32_t depth, vec3 weight, int parent, uint32_t pixel_key,
+                              Recorder& recorder) const {
+    Hit hit;
+    const int segment = recorder.closest(accel_, ray, depth == 0 ? PRIMARY : REFLECTION, depth, parent, weight, hit);
+    if (!hit.found()) return scene_.background;
+
+    SurfaceHit s = surface_at(scene_, ray, hit);
+    const vec3 wo = -ray.direction;
+    face_viewer(s, wo);
+    const Material& m = scene_.materials[s.material];
+    recorder.surface(segment, s, hit, m);
+
+    vec3 diffuse = m.diffuse;
+    if (m.diffuse_texture >= 0) diffuse *= scene_.textures[size_t(m.diffuse_texture)].sample(s.uv);
+    vec3 color = direct_light(s, wo, m, diffuse, depth, segment, pixel_key, recorder);
+    recorder.contribution(segment, color);
+
+    // Reflect only while the reflected light can still show in the pixel: the
+    // product of reflectances along the path, not just this surface's (seed 3.3).
+    const vec3 reflected_weight = weight * m.reflectance;
+    if (depth < max_depth_ && max_component(reflected_weight) > min_contribution_) {
+        vec3 direction = glm::reflect(ray.direction, s.ns);
+        // A bent shading normal can mirror below the surface; the true surface decides.
+        if (glm::dot(direction, s.ng) <= 0.0f) direction = glm::reflect(ray.direction, s.ng);
+        const Ray reflected = spawn_ray(s.p, s.p_error, s.ng, direction);
+        color += m.reflectance * trace(reflected, depth + 1, reflected_weight, segment,
+                                       hash_combine(pixel_key, depth + 1), recorder);
+    }
+    return color;
+}
+
+template <class Recorder>
+vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Material& m, vec3 diffuse,
+                                     uint32_t depth, int parent, uint32_t pixel_key,
+                                     Recorder& recorder) const {
+    vec3 color(0.0f);
+    for (size_t light_index = 0; light_index < scene_.lights.size(); ++light_index) {
+        const Light& light = scene_.lights[light_index];
+        const vec3 to_light = light.position - s.p;
+        const float distance_squared = glm::dot(to_light, to_light);
+        const float radius_squared = light.radius * light.radius;
+        if (!(distance_squared > radius_squared)) continue;  // inside a spherical light
+
+        if (light.radius == 0.0f) {
+            const vec3 wi = to_light / std::sqrt(distance_squared);
+            const float cos_theta = glm::dot(s.ns, wi);
+            if (cos_theta <= 0.0f || glm::dot(s.ng, wi) <= 0.0f) continue;
+            bool occluded = false;
+            const int shadow = recorder.shadow(accel_, spawn_ray_to(s.p, s.p_error, s.ng, light.position),
+                                               depth, parent, occluded);
+            if (occluded) continue;
+            const vec3 c = phong_brdf(diffuse, m.specular, m.shininess, s.ns, wo, wi) *
+                           (light.intensity * (cos_theta / distance_squared));
+            recorder.contribution(shadow, c);
+            color += c;
+            continue;
+        }
+
+        // A spherical light: uniform directions in the cone it subtends, so every
+        // sample lands on the light (the seed sampled the whole sphere, wasting the
+        // back half). Radiance L = I / (pi r^2) makes it a point light from afar.
+        const float sin2_max = radius_squared / distance_squared;
+        const float cos_max = std::sqrt(glm::max(0.0f, 1.0f - sin2_max));
+        const float solid_angle = 2.0f * kPi * (1.0f - cos_max);
+        const vec3 radiance = light.intensity / (kPi * radius_squared);
+        const vec3 axis = to_light / std::sqrt(distance_squared);
+        vec3 b1, b2;
+        orthonormal_basis(axis, b1, b2);
+        const uint32_t key = hash_combine(pixel_key, uint32_t(light_index));
+        vec3 sum(0.0f);
+        for (uint32_t i = 0; i < light_samples_; ++i) {
+            const vec3 local = sample_uniform_cone(stratified_2d(i, light_samples_, key), cos_max);
+            const vec3 wi = glm::normalize(local.x * b1 + local.y * b2 + local.z * axis);
+            const float cos_theta = glm::dot(s.ns, wi);
+            if (cos_theta <= 0.0f || glm::dot(s.ng, wi) <= 0.0f) continue;
+            float t_light = 0.0f;
+            Ray probe = spawn_ray(s.p, s.p_error, s.ng, wi);
+            if (!intersect_sphere(probe, Sphere{light.position, light.radius, 0}, t_light)) continue;
+            probe.t_max = t_light;
+            bool occluded = false;
+            const int shadow = recorder.shadow(accel_, probe, depth, parent, occluded);
+            if (occluded) continue;
+            const vec3 c = phong_brdf(diffuse, m.specular, m.shininess, s.ns, wo, wi) * radiance *
+                           (cos_theta * solid_angle / float(light_samples_));
+            recorder.contribution(shadow, c);
+            sum += c;
+        }
+        color += sum;
+    }
+    return color;
+}
+
+}  // namespace rt

@@ -1,0 +1,79 @@
+#include "proto_limits.h"
+
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "rt/render.pb.h"
+#include "rt/scene.pb.h"
+
+namespace rt {
+namespace {
+
+std::string error_of(std::string_view json, google::protobuf::Message& message) {
+    try {
+        parse_json_message(json, message, "settings");
+    } catch (const std::invalid_argument& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(ProtoLimits, AbsentFieldsTakeTheSchemaDefaults) {
+    RenderSettings settings;
+    parse_json_message("{}", settings, "settings");
+    EXPECT_EQ(settings.width(), 640u);
+    EXPECT_EQ(settings.height(), 480u);
+    EXPECT_EQ(settings.max_depth(), 5u);
+    EXPECT_FLOAT_EQ(settings.min_contribution(), 0.001f);
+}
+
+TEST(ProtoLimits, GivenFieldsAreKept) {
+    RenderSettings settings;
+    parse_json_message(R"({"width": 64, "maxDepth": 0})", settings, "settings");
+    EXPECT_EQ(settings.width(), 64u);
+    EXPECT_EQ(settings.max_depth(), 0u);  // an explicit zero is not replaced by the default
+}
+
+TEST(ProtoLimits, OutOfRangeValuesNameTheField) {
+    RenderSettings settings;
+    EXPECT_EQ(error_of(R"({"width": 0})", settings), "settings.width: 0 is below the minimum 1");
+    RenderSettings other;
+    EXPECT_EQ(error_of(R"({"height": 20000})", other), "settings.height: 20000 is above the maximum 16384");
+}
+
+TEST(ProtoLimits, UnknownFieldsAndBadJsonAreRefused) {
+    RenderSettings settings;
+    EXPECT_NE(error_of(R"({"widht": 10})", settings).find("widht"), std::string::npos);
+    RenderSettings other;
+    EXPECT_NE(error_of("{", other).find("invalid JSON"), std::string::npos);
+}
+
+TEST(ProtoLimits, VectorsNeedTheirCountAndRequiredFieldsTheirPresence) {
+    Camera camera;
+    EXPECT_EQ(error_of(R"({"position": [0, 1], "target": [0, 0, 0]})", camera),
+              "settings.position: needs 3 values, got 2");
+    Camera missing;
+    EXPECT_EQ(error_of(R"({"position": [0, 1, 2]})", missing), "settings.target: is required");
+}
+
+TEST(ProtoLimits, NestedMessagesAreCheckedWithTheirPath) {
+    SceneExtras extras;
+    try {
+        parse_json_message(R"({"lights": [{"position": [0, 0, 0]}, {"position": [0, 0, 0], "intensity": -1}]})",
+                           extras, "extras");
+        FAIL() << "negative intensity accepted";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_STREQ(e.what(), "extras.lights[1].intensity: -1 is below the minimum 0");
+    }
+    EXPECT_FLOAT_EQ(extras.lights(0).intensity(), 1.0f);
+}
+
+TEST(ProtoLimits, NonFiniteNumbersAreRefused) {
+    Camera camera;
+    EXPECT_EQ(error_of(R"({"position": [0, "NaN", 0], "target": [0, 0, 0]})", camera),
+              "settings.position[1]: must be a finite number");
+}
+
+}  // namespace
+}  // namespace rt

@@ -1,0 +1,100 @@
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "accel.h"
+#include "render.h"
+#include "test_scenes.h"
+
+namespace rt {
+namespace {
+
+using namespace rt::testing;
+
+Image render_image(const Scene& scene, const Camera& camera, uint32_t w, uint32_t h, unsigned threads,
+                   uint32_t tile) {
+    const Accelerator accel(scene, threads);
+    const Renderer renderer(accel, make_settings(w, h), camera);
+    RayCounts counts;
+    return renderer.render(threads, tile, nullptr, counts);
+}
+
+// Acne test: the same lit floor and sphere at scales 1e-4, 1 and 1e5 gives the
+// same image, and no floor pixel that sees the light is darkened by its own
+// surface.
+TEST(Render, NoSelfShadowingAtAnyScale) {
+    const uint32_t w = 96, h = 72;
+    std::vector<Image> images;
+    for (float scale : {1e-4f, 1.0f, 1e5f}) {
+        const Scene scene = floor_and_sphere(scale);
+        const Camera camera = make_camera(vec3(0.0f, 3.0f, 9.0f) * scale, vec3(0.0f, 0.8f, 0.0f) * scale, 40.0f);
+        images.push_back(render_image(scene, camera, w, h, 0, 16));
+
+        // Every floor pixel outside the sphere's shadow must receive light: a
+        // fixed epsilon makes some of them shadow themselves at small scales.
+        const Accelerator accel(scene, 1);
+        const PinholeCamera pinhole(camera, w, h);
+        int self_shadowed = 0, lit = 0;
+        for (uint32_t y = 0; y < h; ++y) {
+            for (uint32_t x = 0; x < w; ++x) {
+                const Ray ray = pinhole.generate_ray(float(x) + 0.5f, float(y) + 0.5f);
+                Hit hit;
+                if (!accel.intersect(ray, hit) || hit.primitive >= scene.triangles.size()) continue;
+                // Exact shadow test in double precision against the sphere alone.
+                const dvec3 p = dvec3(ray.origin) + double(hit.t) * dvec3(ray.direction);
+                const dvec3 l = dvec3(scene.lights[0].position) - p;
+                const dvec3 f = p - dvec3(scene.spheres[0].center);
+                const dvec3 d = glm::normalize(l);
+                const double b = glm::dot(f, d);
+                const double disc = b * b - (glm::dot(f, f) - double(scene.spheres[0].radius) * scene.spheres[0].radius);
+                const bool shadowed = disc > 0.0 && -b - std::sqrt(disc) > 0.0;
+                if (shadowed) continue;
+                ++lit;
+                if (images.back().pixel(x, y).r <= 0.0f) ++self_shadowed;
+            }
+        }
+        EXPECT_GT(lit, int(w * h / 4)) << "scale " << scale;
+        EXPECT_EQ(self_shadowed, 0) << "scale " << scale;
+    }
+    // Up to scale the images agree; single pixels on the shadow's and the
+    // sphere's outlines may flip where the hit point lands within rounding.
+    for (size_t k : {0u, 2u}) {
+        int differing = 0;
+        for (size_t i = 0; i < images[1].rgb.size(); ++i)
+            differing += std::abs(images[k].rgb[i] - images[1].rgb[i]) > 1e-3f * (1.0f + images[1].rgb[i]);
+        EXPECT_LE(differing, int(images[1].rgb.size() / 500)) << "scale index " << k;
+    }
+}
+
+TEST(Render, SameImageForAnyTilingAndThreadCount) {
+    const Scene scene = floor_and_sphere(1.0f);
+    const Camera camera = make_camera({0.0f, 3.0f, 9.0f}, {0.0f, 0.8f, 0.0f}, 40.0f);
+    const Image reference = render_image(scene, camera, 67, 43, 1, 1000);
+    for (auto [threads, tile] : {std::pair{1u, 7u}, std::pair{2u, 16u}, std::pair{4u, 1u}, std::pair{3u, 64u}}) {
+        const Image image = render_image(scene, camera, 67, 43, threads, tile);
+        EXPECT_EQ(image.rgb, reference.rgb) << threads << " threads, tile " << tile;
+    }
+}
+
+TEST(Render, TileOutsideTheImageIsRefused) {
+    const Scene scene = floor_and_sphere(1.0f);
+    const Accelerator accel(scene, 1);
+    const Renderer renderer(accel, make_settings(16, 16), make_camera({0.0f, 3.0f, 9.0f}, vec3(0.0f)));
+    float rgb[3 * 16 * 16];
+    EXPECT_THROW(renderer.render_tile({8, 8, 9, 1}, rgb), std::invalid_argument);
+    EXPECT_THROW(renderer.render_tile({0, 0, 0, 1}, rgb), std::invalid_argument);
+    EXPECT_THROW(renderer.debug_pixel(16, 0), std::invalid_argument);
+}
+
+TEST(Render, InvalidSettingsAndCamerasAreRefused) {
+    const Scene scene = floor_and_sphere(1.0f);
+    const Accelerator accel(scene, 1);
+    EXPECT_THROW(Renderer(accel, make_settings(0, 16), make_camera({0.0f, 3.0f, 9.0f}, vec3(0.0f))),
+                 std::invalid_argument);
+    EXPECT_THROW(Renderer(accel, make_settings(8, 8), make_camera(vec3(1.0f), vec3(1.0f))), std::invalid_argument);
+    EXPECT_THROW(Renderer(accel, make_settings(8, 8), make_camera({0.0f, 3.0f, 0.0f}, vec3(0.0f))),
+                 std::invalid_argument);  // up parallel to the view direction
+}
+
+}  // namespace
+}  // namespace rt

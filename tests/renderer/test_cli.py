@@ -1,0 +1,76 @@
+"""The rtrender command line: outputs, summary line, errors and exit codes."""
+import json
+import re
+import subprocess
+
+import numpy as np
+from PIL import Image
+
+import rtcore
+
+
+def run(rtrender, *args):
+    return subprocess.run([str(rtrender), *map(str, args)], capture_output=True, text=True, timeout=300)
+
+
+def test_help_lists_every_render_setting(rtrender):
+    result = run(rtrender, "--help")
+    assert result.returncode == 0
+    for flag in ("--width", "--height", "--max-depth", "--min-contribution", "--light-samples", "--settings"):
+        assert flag in result.stdout
+
+
+def test_png_matches_rtcore_and_summary_is_printed(rtrender, scenes_dir, tmp_path):
+    out = tmp_path / "cornell.png"
+    result = run(rtrender, scenes_dir / "cornell.obj", "-o", out, "--width", 64, "--height", 48, "--quiet")
+    assert result.returncode == 0, result.stderr
+    summary = re.search(r"(\d+) triangles.*BVH (\d+) nodes depth (\d+), build ([\d.]+) ms, "
+                        r"render ([\d.]+) ms, ([\d.]+) Mrays/s", result.stdout)
+    assert summary, result.stdout
+    image = np.asarray(Image.open(out).convert("RGB"))
+    assert image.shape == (48, 64, 3)
+
+    scene = rtcore.Scene.load(str(scenes_dir / "cornell.obj"))
+    linear = scene.render(scene.default_camera, '{"width": 64, "height": 48}')
+    srgb = np.where(linear <= 0.0031308, 12.92 * linear, 1.055 * np.clip(linear, 0, 1) ** (1 / 2.4) - 0.055)
+    expected = np.round(np.clip(srgb, 0, 1) * 255)
+    assert np.abs(image.astype(int) - expected.astype(int)).max() <= 1
+
+
+def test_exr_and_settings_file(rtrender, scenes_dir, tmp_path):
+    settings = tmp_path / "settings.json"
+    settings.write_text(json.dumps({"width": 32, "height": 24, "maxDepth": 2}))
+    out = tmp_path / "cornell.exr"
+    result = run(rtrender, scenes_dir / "cornell.obj", "-o", out, "--settings", settings, "--quiet")
+    assert result.returncode == 0, result.stderr
+    assert out.read_bytes()[:4] == b"\x76\x2f\x31\x01"  # OpenEXR magic
+
+
+def test_progress_bar_on_stderr(rtrender, scenes_dir, tmp_path):
+    result = run(rtrender, scenes_dir / "cornell.obj", "-o", tmp_path / "a.png", "--width", 64, "--height", 64)
+    assert result.returncode == 0
+    assert "100%" in result.stderr and "tiles" in result.stderr
+
+
+def test_debug_pixel_prints_the_ray_tree(rtrender, scenes_dir):
+    result = run(rtrender, scenes_dir / "cornell.obj", "--debug-pixel", "20,20", "--width", 40, "--height", 40)
+    assert result.returncode == 0, result.stderr
+    path = json.loads(result.stdout)
+    assert path["segments"][0]["kind"] == "PRIMARY"
+
+
+def test_errors_name_the_problem(rtrender, scenes_dir, tmp_path):
+    cases = [
+        ((), 2, "no scene"),
+        ((scenes_dir / "cornell.obj",), 2, "no output"),
+        ((scenes_dir / "cornell.obj", "-o", tmp_path / "x.png", "--width", 0), 2, "settings.width: 0 is below"),
+        ((scenes_dir / "cornell.obj", "-o", tmp_path / "x.png", "--width", "abc"), 2, "not a number"),
+        ((scenes_dir / "cornell.obj", "-o", tmp_path / "x.png", "--bogus", 1), 2, "unknown option --bogus"),
+        ((scenes_dir / "cornell.obj", "-o", tmp_path / "x.png", "--camera", "nope"), 2, "no camera 'nope'"),
+        ((scenes_dir / "cornell.obj", "-o", tmp_path / "x.bmp", "--width", 8, "--height", 8), 1, "unsupported image"),
+        ((tmp_path / "missing.obj", "-o", tmp_path / "x.png"), 1, "missing.obj"),
+    ]
+    for args, code, message in cases:
+        result = run(rtrender, *args)
+        assert result.returncode == code, (args, result.stderr)
+        assert message in result.stderr, (args, result.stderr)

@@ -1,0 +1,142 @@
+"""The rtcore module: loading, tiles, batch ray queries, debugger exports."""
+import json
+import threading
+
+import numpy as np
+import pytest
+
+import rtcore
+from rt import debug_pb2, render_pb2
+
+
+@pytest.fixture(scope="module")
+def cornell(scenes_dir):
+    return rtcore.Scene.load(str(scenes_dir / "cornell.obj"))
+
+
+def settings(width=48, height=36, **fields):
+    return render_pb2.RenderSettings(width=width, height=height, **fields).SerializeToString()
+
+
+def test_load_reports_the_scene(cornell):
+    assert cornell.triangle_count >= 30
+    lo, hi = cornell.bounds
+    assert all(a < b for a, b in zip(lo, hi))
+    assert cornell.cameras, "the sample Cornell box names a camera"
+    name, camera_bytes = cornell.cameras[0]
+    camera = render_pb2.Camera.FromString(camera_bytes)
+    assert len(camera.position) == 3 and len(camera.target) == 3
+    assert len(cornell.lights) == 1
+    stats = cornell.bvh_stats
+    assert stats["triangles"] == cornell.triangle_count and stats["nodes"] >= 1
+
+
+def test_tiles_assemble_into_the_full_image(cornell):
+    camera = cornell.default_camera
+    full = cornell.render(camera, settings(), threads=2, tile_size=16)
+    assert full.shape == (36, 48, 3) and full.dtype == np.float32
+    assert full.max() > 0.05, "the lit box is not black"
+    assembled = np.zeros_like(full)
+    for y in range(0, 36, 10):
+        for x in range(0, 48, 13):
+            w, h = min(13, 48 - x), min(10, 36 - y)
+            assembled[y:y + h, x:x + w] = cornell.render_tile(camera, settings(), x, y, w, h)
+    np.testing.assert_array_equal(assembled, full)
+
+
+def test_settings_and_camera_accept_json(cornell):
+    camera_json = json.dumps({"position": [0, 1, 3.5], "target": [0, 1, 0], "up": [0, 1, 0], "fov_y": 40})
+    from_json = cornell.render_tile(camera_json, '{"width": 16, "height": 12}', 0, 0, 16, 12)
+    camera = render_pb2.Camera(position=[0, 1, 3.5], target=[0, 1, 0], up=[0, 1, 0], fov_y=40)
+    from_bytes = cornell.render_tile(camera.SerializeToString(), settings(16, 12), 0, 0, 16, 12)
+    np.testing.assert_array_equal(from_json, from_bytes)
+
+
+def test_bad_settings_name_the_field(cornell):
+    with pytest.raises(ValueError, match=r"settings\.width: 0 is below the minimum 1"):
+        cornell.render_tile(cornell.default_camera, settings(width=0), 0, 0, 1, 1)
+    with pytest.raises(ValueError, match="widht"):
+        cornell.render_tile(cornell.default_camera, '{"widht": 3}', 0, 0, 1, 1)
+    with pytest.raises(ValueError, match="not inside"):
+        cornell.render_tile(cornell.default_camera, settings(8, 8), 4, 4, 8, 8)
+    with pytest.raises(ValueError, match="camera"):
+        cornell.render_tile(b"\xff\xff", settings(8, 8), 0, 0, 1, 1)
+
+
+def test_missing_scene_is_a_clear_error(tmp_path):
+    with pytest.raises(ValueError, match="nope.obj"):
+        rtcore.Scene.load(str(tmp_path / "nope.obj"))
+
+
+def test_batch_queries_agree_with_each_other(cornell):
+    rng = np.random.default_rng(1)
+    lo, hi = (np.array(b, dtype=np.float32) for b in cornell.bounds)
+    origins = (lo + (hi - lo) * rng.random((5000, 3))).astype(np.float32)
+    targets = (lo + (hi - lo) * rng.random((5000, 3))).astype(np.float32)
+    directions = targets - origins
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    t, primitive, u, v = cornell.intersect(origins, directions)
+    hit = primitive >= 0
+    assert hit.mean() > 0.5, "rays between points inside a closed box mostly hit"
+    assert np.all(np.isinf(t[~hit]))
+    assert np.all((u[hit] >= 0) & (v[hit] >= 0) & (u[hit] + v[hit] <= 1.0001))
+    t_max = np.full(5000, 0.5, dtype=np.float32)
+    blocked = cornell.occluded(origins, directions, t_max)
+    np.testing.assert_array_equal(blocked, hit & (t < 0.5))
+
+
+def test_batch_queries_refuse_bad_arrays(cornell):
+    with pytest.raises(ValueError, match="rows"):
+        cornell.intersect(np.zeros((3, 3), np.float32), np.ones((2, 3), np.float32))
+    with pytest.raises(ValueError, match="finite"):
+        cornell.intersect(np.full((1, 3), np.nan, np.float32), np.ones((1, 3), np.float32))
+    with pytest.raises(TypeError):
+        cornell.intersect(np.zeros((3, 2), np.float32), np.ones((3, 2), np.float32))
+
+
+def test_debug_path_records_the_ray_tree(cornell):
+    path = debug_pb2.DebugPath.FromString(cornell.debug_path(cornell.default_camera, settings(), 24, 18))
+    assert (path.pixel_x, path.pixel_y) == (24, 18)
+    primary = path.segments[0]
+    assert primary.kind == debug_pb2.PRIMARY and primary.outcome == debug_pb2.HIT and primary.parent == -1
+    assert len(primary.origin) == 3 and len(primary.end) == 3 and len(primary.normal) == 3
+    assert primary.visited_nodes, "the traversal is recorded"
+    shadows = [s for s in path.segments if s.kind == debug_pb2.SHADOW]
+    assert shadows and all(s.outcome in (debug_pb2.OCCLUDED, debug_pb2.REACHED_LIGHT) for s in shadows)
+    assert all(0 <= s.parent < len(path.segments) for s in path.segments[1:])
+    # The recorded path and the rendered pixel are the same computation.
+    pixel = cornell.render_tile(cornell.default_camera, settings(), 24, 18, 1, 1)[0, 0]
+    np.testing.assert_allclose(path.color, pixel, rtol=1e-6)
+
+
+def test_bvh_boxes_cover_the_scene(cornell):
+    root = debug_pb2.BvhBoxes.FromString(cornell.bvh_boxes(0))
+    assert root.level == 0 and len(root.nodes) == 1 and len(root.bounds) == 6
+    assert root.leaf_triangles[0] == cornell.triangle_count
+    leaves = debug_pb2.BvhBoxes.FromString(cornell.bvh_boxes(-1))
+    assert leaves.level == -1 and sum(leaves.leaf_triangles) == cornell.triangle_count
+    assert len(leaves.bounds) == 6 * len(leaves.nodes)
+    assert root.total_levels == cornell.bvh_stats["depth"] + 1
+
+
+def test_glb_loads_from_bytes(scenes_dir):
+    data = (scenes_dir / "bunny.glb").read_bytes()
+    scene = rtcore.Scene.from_bytes(data, "bunny.glb")
+    assert scene.triangle_count == rtcore.Scene.load(str(scenes_dir / "bunny.glb")).triangle_count > 3000
+    with pytest.raises(ValueError):
+        rtcore.Scene.from_bytes(data[:100], "bunny.glb")
+
+
+def test_tiles_render_concurrently_from_threads(cornell):
+    camera, results = cornell.default_camera, {}
+
+    def work(k):
+        results[k] = cornell.render_tile(camera, settings(), 0, 12 * k, 48, 12)
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(3)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    full = cornell.render(camera, settings())
+    np.testing.assert_array_equal(np.concatenate([results[k] for k in range(3)]), full)
