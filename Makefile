@@ -14,7 +14,8 @@ APT_PACKAGES := cmake ninja-build g++ ccache pkg-config git python3 python3-venv
   libopenimageio-dev libglm-dev libtinygltf-dev libtinyobjloader-dev libstb-dev \
   nlohmann-json3-dev libprotobuf-dev protobuf-compiler libgtest-dev libembree-dev
 
-CMAKE_FLAGS := -G Ninja -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=$(abspath $(PY))
+CMAKE_FLAGS := -G Ninja -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=$(abspath $(PY)) \
+  -DRT_RUNTIME_DIR=$(abspath $(BUILD))
 export CCACHE_DIR ?= $(HOME)/.cache/ccache
 
 .PHONY: help deps venv build build-asan samples test test-cpp test-asan test-py run bench clean
@@ -64,7 +65,7 @@ test-cpp: build samples
 	cd $(BUILD)/renderer && ctest --output-on-failure -j $(JOBS)
 
 test-asan: build-asan samples
-	cd $(BUILD)/asan && ASAN_OPTIONS=detect_leaks=1 ctest --output-on-failure -j $(JOBS) -R 'Loader|Triangle|Sphere|Spawn|Intersect'
+	cd $(BUILD)/asan && ASAN_OPTIONS=detect_leaks=1 ctest --output-on-failure -j $(JOBS) -R 'Loader|Triangle|Sphere|Spawn|Intersect|Accel|ProtoLimits'
 
 test-py: build samples
 	$(PY) -m pytest -q tests

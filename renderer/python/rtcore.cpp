@@ -21,6 +21,7 @@
 #include "loader.h"
 #include "proto_limits.h"
 #include "render.h"
+#include "rt/job.pb.h"
 
 namespace nb = nanobind;
 using namespace nb::literals;
@@ -265,6 +266,23 @@ class PyScene {
     std::unique_ptr<rt::Accelerator> accel_;
 };
 
+// The JSON form of any rt message, checked against the schema's limits with its
+// defaults filled in, returned serialized. The server validates request bodies
+// here so that C++ and Python refuse exactly the same values.
+nb::bytes parse_message(const std::string& type_name, const std::string& json, const std::string& path) {
+    // Naming the messages links their generated code, which registers them.
+    static const google::protobuf::Descriptor* const linked[] = {
+        rt::JobRequest::descriptor(), rt::DebugRayRequest::descriptor(), rt::SceneExtras::descriptor()};
+    (void)linked;
+    const auto* descriptor = google::protobuf::DescriptorPool::generated_pool()->FindMessageTypeByName(type_name);
+    if (!descriptor) throw std::invalid_argument("unknown message type " + type_name);
+    std::unique_ptr<google::protobuf::Message> message(
+        google::protobuf::MessageFactory::generated_factory()->GetPrototype(descriptor)->New());
+    rt::parse_json_message(json, *message, path);
+    const std::string data = message->SerializeAsString();
+    return nb::bytes(data.data(), data.size());
+}
+
 }  // namespace
 
 NB_MODULE(rtcore, m) {
@@ -276,6 +294,10 @@ NB_MODULE(rtcore, m) {
             PyErr_SetString(PyExc_ValueError, e.what());
         }
     });
+
+    m.def("parse_message", &parse_message, "type_name"_a, "json"_a, "path"_a = "body",
+          "Parses the JSON form of an rt message (e.g. 'rt.JobRequest'), fills the schema's defaults and "
+          "checks its limits: the serialized message, or ValueError naming the field.");
 
     nb::class_<PyScene>(m, "Scene")
         .def_static("load", &PyScene::load, "path"_a, "threads"_a = 0,

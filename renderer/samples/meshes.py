@@ -104,7 +104,15 @@ def load_js_mesh(module_dir: Path) -> Mesh:
     tris = triangulate(ListValues(counts, flat))
     if tris.size and (tris.min() < 0 or tris.max() >= len(positions)):
         raise ValueError(f"{module_dir}: cell index out of range")
-    return _mesh(positions, tris)
+    return weld(_mesh(positions, tris))
+
+
+def weld(mesh: Mesh) -> Mesh:
+    """Merge vertices at identical positions, so normals computed from the faces
+    are smooth across the seams between separately modelled patches (the
+    teapot's Bezier patches each have their own border vertices)."""
+    unique, inverse = np.unique(mesh.positions, axis=0, return_inverse=True)
+    return Mesh(unique, inverse.reshape(-1)[mesh.triangles].astype(np.uint32))
 
 
 def load_ply(path: Path) -> Mesh:

@@ -53,7 +53,7 @@ def main() -> int:
     parser.add_argument("--only", nargs="+", default=[], metavar="STEM",
                         help="render only these scenes (e.g. cornell dragon_4)")
     parser.add_argument("--rtrender-arg", action="append", default=[], metavar="ARG",
-                        help="pass ARG on to rtrender (repeatable), e.g. --rtrender-arg=--threads=2")
+                        help="pass ARG on to rtrender, one word each: --rtrender-arg=--threads --rtrender-arg=2")
     args = parser.parse_args()
 
     if not (args.rtrender.is_file() and os.access(args.rtrender, os.X_OK)):

@@ -3,8 +3,8 @@
 // limits they enforce before allocating anything a file's counts ask for.
 #pragma once
 
-#include <cstddef>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <span>

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cctype>
-#include <optional>
 #include <map>
+#include <optional>
 #include <string_view>
 
 #include <nlohmann/json.hpp>
@@ -166,18 +166,20 @@ void check_image_views(const Json& doc, const std::string& name) {
 }
 
 void add_extras(const Json& object, const std::string& element, const std::string& name,
-                LoadedScene& loaded) {
-    const Json* extras = member(object, "extras");
-    const Json* rt = extras ? member(*extras, "rt") : nullptr;
+                std::vector<LoadedScene::Extras>& extras) {
+    const Json* all = member(object, "extras");
+    const Json* rt = all ? member(*all, "rt") : nullptr;
     if (!rt) return;
     if (!rt->is_object()) throw SceneError(name + ": " + element + " must be a JSON object");
-    loaded.extras.push_back({element, rt->dump()});
+    extras.push_back({element, rt->dump()});
 }
 
 // Everything about the document that must hold before tinygltf parses it: its
-// depth, required extensions, the files it references, image buffer views. Also
-// collects the `extras.rt` objects of the asset and of the scene to render.
-void check_document(std::string_view text, const SceneFolder& folder, LoadedScene& loaded, ReferenceNames& names) {
+// depth, required extensions, the files it references (named in `names`), image
+// buffer views. Returns the `extras.rt` objects of the asset and of the scene
+// to render.
+std::vector<LoadedScene::Extras> check_document(std::string_view text, const SceneFolder& folder,
+                                                ReferenceNames& names) {
     const std::string& name = folder.scene_name();
     if (json_depth(text) > kMaxJsonDepth)
         throw SceneError(name + ": JSON nesting is deeper than " + std::to_string(kMaxJsonDepth) + " levels");
@@ -191,7 +193,8 @@ void check_document(std::string_view text, const SceneFolder& folder, LoadedScen
 
     if (const Json* required = member(doc, "extensionsRequired"); required && required->is_array()) {
         for (const Json& extension : *required) {
-            const std::string id = extension.is_string() ? extension.get<std::string>() : extension.dump();
+            if (!extension.is_string()) throw SceneError(name + ": extensionsRequired holds a value that is not a name");
+            const std::string& id = extension.get_ref<const std::string&>();
             if (std::find(std::begin(kSupportedGltfExtensions), std::end(kSupportedGltfExtensions), id) ==
                 std::end(kSupportedGltfExtensions))
                 throw SceneError(name + ": requires the glTF extension " + in_quotes(id) +
@@ -202,15 +205,17 @@ void check_document(std::string_view text, const SceneFolder& folder, LoadedScen
     check_references(doc, "images", folder, names);
     check_image_views(doc, name);
 
+    std::vector<LoadedScene::Extras> extras;
     try {
-        if (const Json* asset = member(doc, "asset")) add_extras(*asset, "asset.extras.rt", name, loaded);
+        if (const Json* asset = member(doc, "asset")) add_extras(*asset, "asset.extras.rt", name, extras);
         const Json* scenes = member(doc, "scenes");
         const uint64_t scene = unsigned_or(doc, "scene", 0);
         if (scenes && scenes->is_array() && scene < scenes->size())
-            add_extras((*scenes)[scene], "scenes[" + std::to_string(scene) + "].extras.rt", name, loaded);
+            add_extras((*scenes)[scene], "scenes[" + std::to_string(scene) + "].extras.rt", name, extras);
     } catch (const Json::exception& e) {
         throw SceneError(name + ": extras.rt: " + e.what());
     }
+    return extras;
 }
 
 // tinygltf's view of the file system: only files the scene folder resolves to,
@@ -290,9 +295,8 @@ LoadedScene load_gltf(std::span<const unsigned char> data, bool binary, const Sc
     const std::string& name = folder.scene_name();
     std::string_view json(reinterpret_cast<const char*>(data.data()), data.size());
     if (binary) data = check_glb(data, name, json);
-    LoadedScene preliminary;
     ReferenceNames names;
-    check_document(json, folder, preliminary, names);
+    std::vector<LoadedScene::Extras> extras = check_document(json, folder, names);
 
     FileAccess access{folder, names, {}, std::nullopt};
     tinygltf::TinyGLTF parser;
@@ -313,8 +317,9 @@ LoadedScene load_gltf(std::span<const unsigned char> data, bool binary, const Sc
     if (!ok) throw SceneError(name + ": " + one_line(error.empty() ? "cannot be parsed" : error));
 
     LoadedScene loaded = build_gltf_scene(model, name);
-    loaded.extras = std::move(preliminary.extras);
-    if (!warning.empty()) loaded.scene.warnings.insert(loaded.scene.warnings.begin(), name + ": " + one_line(warning));
+    loaded.extras = std::move(extras);
+    if (!warning.empty())
+        loaded.scene.warnings.insert(loaded.scene.warnings.begin(), name + ": " + one_line(warning));
     return loaded;
 }
 

@@ -1,3 +1,5 @@
+#include <cmath>
+
 #include <glm/gtc/type_ptr.hpp>
 
 #include "gltf_loader.h"

@@ -1,7 +1,11 @@
 // The parsed glTF model's node forest and meshes, turned into our world-space
 // scene. Nothing in the model is trusted: indices are range-checked, accessors
 // go through GltfAccessor, numbers must be finite, and nodes must form trees.
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <optional>
+#include <stdexcept>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -192,8 +196,8 @@ void GltfSceneBuilder::add_primitive(const tinygltf::Primitive& primitive, const
     }
     for (const auto* attr : {&normals, &texcoords})
         if (*attr && (*attr)->count() != n)
-            throw SceneError((*attr)->what() + " has " + std::to_string((*attr)->count()) + " elements, but POSITION has " +
-                 std::to_string(n));
+            throw SceneError((*attr)->what() + " has " + std::to_string((*attr)->count()) +
+                             " elements, but POSITION has " + std::to_string(n));
     if (primitive.indices != -1)
         indices.emplace(model_, primitive.indices, prefix + " indices", TINYGLTF_TYPE_SCALAR,
                         Types{TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,

@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
 
 #include "format_loaders.h"
 #include "scene_extras.h"
@@ -98,6 +101,10 @@ void complete_normals(Scene& scene) {
         const float length = glm::length(n);
         return length > 0.0f && std::isfinite(length);
     };
+    if (std::all_of(scene.normals.begin(), scene.normals.end(), usable)) {
+        for (vec3& n : scene.normals) n = glm::normalize(n);
+        return;
+    }
     std::vector<dvec3> sums(scene.normals.size(), dvec3(0.0));
     std::vector<dvec3> first(scene.normals.size(), dvec3(0.0));
     for (const uvec3& tri : scene.triangles) {
@@ -138,7 +145,8 @@ void finalise(LoadedScene& loaded, const std::string& name) {
         std::replace(unassigned, scene.triangle_materials.end(), kNoMaterial, index);
     }
     if (scene.lights.empty())
-        scene.warnings.push_back(name + ": scene has no lights: surfaces get no direct light, only reflections of the background");
+        scene.warnings.push_back(name + ": scene has no lights: surfaces get no direct light, only reflections "
+                                        "of the background");
 }
 
 Scene load(Format format, std::span<const unsigned char> data, const SceneFolder& folder,

@@ -1,6 +1,8 @@
 // Wavefront OBJ + MTL through tinyobjloader. The parser only splits the text;
 // every index, count and number it hands back is checked here, and material
 // libraries and textures are read through the scene folder (scene_files.h).
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -156,15 +158,18 @@ LoadedScene ObjSceneBuilder::build(const std::vector<tinyobj::shape_t>& shapes,
     // Pass 1: check every face, count, and sum the area-weighted normal of each
     // position over the faces that give it none (all such faces are smoothed
     // together, whatever their `s` group: docs/materials.md).
-    size_t corner_count = 0, triangle_count = 0;
+    size_t triangle_count = 0;
     std::vector<dvec3> smooth(nv, dvec3(0.0));
     for (const tinyobj::shape_t& shape : shapes) {
         const tinyobj::mesh_t& mesh = shape.mesh;
         const std::string what = "object " + in_quotes(shape.name);
         size_t offset = 0;
         for (size_t f = 0; f < mesh.num_face_vertices.size(); ++f) {
+            // tinyobjloader stores corner counts in a byte and drops faces of fewer
+            // than 3: a count out of step with the indices means one wrapped around.
             const size_t count = mesh.num_face_vertices[f];
-            if (count > mesh.indices.size() - offset) fail(what + " has a face with more than 255 vertices");
+            if (count < 3 || count > mesh.indices.size() - offset)
+                fail(what + " has a face with more than 255 vertices");
             const std::string face = what + " face " + std::to_string(f + 1);
             for (size_t k = 0; k < count; ++k) {
                 const tinyobj::index_t& i = mesh.indices[offset + k];
@@ -184,9 +189,10 @@ LoadedScene ObjSceneBuilder::build(const std::vector<tinyobj::shape_t>& shapes,
             for (size_t k = 1; k + 1 < count; ++k)
                 area += glm::cross(position(mesh.indices[offset + k].vertex_index) - p0,
                                    position(mesh.indices[offset + k + 1].vertex_index) - p0);
-            for (size_t k = 0; k < count; ++k)
-                if (mesh.indices[offset + k].normal_index < 0) smooth[size_t(mesh.indices[offset + k].vertex_index)] += area;
-            corner_count += count;
+            for (size_t k = 0; k < count; ++k) {
+                const tinyobj::index_t& i = mesh.indices[offset + k];
+                if (i.normal_index < 0) smooth[size_t(i.vertex_index)] += area;
+            }
             triangle_count += count - 2;
             offset += count;
         }
@@ -194,7 +200,7 @@ LoadedScene ObjSceneBuilder::build(const std::vector<tinyobj::shape_t>& shapes,
         if (!shape.lines.indices.empty() || !shape.points.indices.empty())
             scene.warnings.push_back(name_ + ": " + what + " has lines or points: only faces are rendered");
     }
-    check_geometry_limits(scene, corner_count, triangle_count, name_);
+    check_geometry_limits(scene, 0, triangle_count, name_);
 
     // Pass 2: one vertex per distinct (position, normal, texcoord) triple, and
     // each polygon as a fan of triangles.
@@ -212,6 +218,7 @@ LoadedScene ObjSceneBuilder::build(const std::vector<tinyobj::shape_t>& shapes,
                 const CornerKey key{i.vertex_index, i.normal_index, i.texcoord_index};
                 const auto [it, added] = vertices.try_emplace(key, uint32_t(scene.positions.size()));
                 if (added) {
+                    check_geometry_limits(scene, 1, 0, name_);
                     scene.positions.push_back(vec3(position(key.v)));
                     // Sums of area vectors can exceed float's range: normalise first.
                     const dvec3 n = key.vn >= 0 ? glm::make_vec3(&attrib_.normals[3 * size_t(key.vn)])
@@ -244,8 +251,9 @@ std::string without_skin_weights(std::span<const unsigned char> data) {
     for (size_t line = 0; line < text.size();) {
         const size_t end = std::min(text.find_first_of("\r\n", line), text.size());
         const size_t start = text.find_first_not_of(" \t", line);
-        if (start < end && start + 2 < end && text.compare(start, 2, "vw") == 0 && (text[start + 2] == ' ' || text[start + 2] == '\t'))
-            text[start] = '#';
+        const bool skin_weights = start < end && start + 2 < end && text.compare(start, 2, "vw") == 0 &&
+                                  (text[start + 2] == ' ' || text[start + 2] == '\t');
+        if (skin_weights) text[start] = '#';
         line = end + 1;
     }
     return text;

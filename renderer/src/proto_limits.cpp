@@ -72,11 +72,17 @@ void set_number(Message& m, const Reflection* r, const FieldDescriptor* f, doubl
     }
 }
 
-void check_value(std::string_view path, double v, const Limits& limits) {
+// A float field holds its value rounded to float, so its limits are compared
+// rounded the same way: `max: 1e30` must admit the float nearest 1e30.
+double limit_for(const FieldDescriptor* field, double limit) {
+    return field->cpp_type() == FieldDescriptor::CPPTYPE_FLOAT ? double(float(limit)) : limit;
+}
+
+void check_value(std::string_view path, double v, const FieldDescriptor* field, const Limits& limits) {
     if (!std::isfinite(v)) fail(path, "must be a finite number");
-    if (limits.has_min() && v < limits.min())
+    if (limits.has_min() && v < limit_for(field, limits.min()))
         fail(path, format_number(v) + " is below the minimum " + format_number(limits.min()));
-    if (limits.has_max() && v > limits.max())
+    if (limits.has_max() && v > limit_for(field, limits.max()))
         fail(path, format_number(v) + " is above the maximum " + format_number(limits.max()));
 }
 
@@ -101,7 +107,7 @@ void apply_limits(Message& message, std::string_view path) {
                 if (field->cpp_type() == FieldDescriptor::CPPTYPE_MESSAGE)
                     apply_limits(*reflection->MutableRepeatedMessage(&message, field, k), element);
                 else if (is_numeric(field))
-                    check_value(element, get_number(message, reflection, field, k), limits);
+                    check_value(element, get_number(message, reflection, field, k), field, limits);
             }
             continue;
         }
@@ -117,7 +123,7 @@ void apply_limits(Message& message, std::string_view path) {
         if (field->cpp_type() == FieldDescriptor::CPPTYPE_MESSAGE)
             apply_limits(*reflection->MutableMessage(&message, field), field_path);
         else if (is_numeric(field))
-            check_value(field_path, get_number(message, reflection, field, -1), limits);
+            check_value(field_path, get_number(message, reflection, field, -1), field, limits);
     }
 }
 

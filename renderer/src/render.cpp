@@ -42,7 +42,7 @@ Ray Renderer::camera_ray(uint32_t x, uint32_t y) const {
     return pinhole_.generate_ray(float(x) + 0.5f, float(y) + 0.5f);
 }
 
-RayCounts Renderer::render_tile(const Tile& tile, float* rgb) const {
+RayCounts Renderer::render_tile(const TileRect& tile, float* rgb) const {
     if (tile.width == 0 || tile.height == 0 || tile.x >= settings_.width() || tile.y >= settings_.height() ||
         tile.width > settings_.width() - tile.x || tile.height > settings_.height() - tile.y)
         throw std::invalid_argument("tile (" + std::to_string(tile.x) + ", " + std::to_string(tile.y) + ", " +
@@ -68,7 +68,7 @@ Image Renderer::render(unsigned threads, uint32_t tile_size, const ProgressCallb
     if (tile_size == 0) throw std::invalid_argument("tile size must be at least 1");
     const uint32_t width = settings_.width(), height = settings_.height();
     Image image(width, height);
-    std::vector<Tile> tiles;
+    std::vector<TileRect> tiles;
     for (uint32_t y = 0; y < height; y += tile_size)
         for (uint32_t x = 0; x < width; x += tile_size)
             tiles.push_back({x, y, std::min(tile_size, width - x), std::min(tile_size, height - y)});
@@ -80,7 +80,7 @@ Image Renderer::render(unsigned threads, uint32_t tile_size, const ProgressCallb
         std::vector<float> buffer;
         RayCounts local;
         for (size_t index; (index = next.fetch_add(1)) < tiles.size();) {
-            const Tile& tile = tiles[index];
+            const TileRect& tile = tiles[index];
             buffer.resize(size_t(tile.width) * tile.height * 3);
             local += render_tile(tile, buffer.data());
             for (uint32_t j = 0; j < tile.height; ++j)

@@ -14,7 +14,7 @@
 
 namespace rt {
 
-struct Tile {
+struct TileRect {
     uint32_t x = 0;
     uint32_t y = 0;
     uint32_t width = 0;
@@ -34,7 +34,7 @@ class Renderer {
 
     // Renders `tile` into `rgb` (3 floats per pixel, tile rows top to bottom).
     // Throws std::invalid_argument when the tile is not inside the image.
-    RayCounts render_tile(const Tile& tile, float* rgb) const;
+    RayCounts render_tile(const TileRect& tile, float* rgb) const;
 
     // The whole image on `threads` threads (0: all cores) in square tiles.
     Image render(unsigned threads, uint32_t tile_size, const ProgressCallback& progress,

@@ -19,9 +19,16 @@ vec3 vector_or(const google::protobuf::RepeatedField<float>& values, vec3 fallba
 SceneAdditions read_scene_extras(std::string_view json, const std::string& source) {
     SceneExtras extras;
     parse_json_message(json, extras, source);
-    // A sphere without a material gets the schema's default one.
-    for (auto& sphere : *extras.mutable_spheres())
-        if (!sphere.has_material()) apply_limits(*sphere.mutable_material(), source);
+    // Absent messages are not checked by the limits: a sphere without a material
+    // gets the schema's default one, and a camera must be given in full.
+    for (int i = 0; i < extras.spheres_size(); ++i)
+        if (!extras.spheres(i).has_material())
+            apply_limits(*extras.mutable_spheres(i)->mutable_material(),
+                         source + ".spheres[" + std::to_string(i) + "].material");
+    for (int i = 0; i < extras.cameras_size(); ++i)
+        if (!extras.cameras(i).has_camera())
+            apply_limits(*extras.mutable_cameras(i)->mutable_camera(),
+                         source + ".cameras[" + std::to_string(i) + "].camera");
 
     SceneAdditions additions;
     const Material defaults;
@@ -34,7 +41,8 @@ SceneAdditions read_scene_extras(std::string_view json, const std::string& sourc
         material.specular = vector_or(phong.specular(), defaults.specular);
         material.shininess = phong.shininess();
         material.reflectance = vector_or(phong.reflectance(), defaults.reflectance);
-        additions.spheres.push_back({vector_or(sphere.center(), vec3(0.0f)), sphere.radius(), std::move(material)});
+        additions.spheres.push_back(
+            {vector_or(sphere.center(), vec3(0.0f)), sphere.radius(), std::move(material)});
     }
     for (int i = 0; i < extras.lights_size(); ++i) {
         const auto& light = extras.lights(i);
@@ -46,7 +54,8 @@ SceneAdditions read_scene_extras(std::string_view json, const std::string& sourc
     if (extras.background_size() == 3) additions.background = vector_or(extras.background(), vec3(0.0f));
     for (int i = 0; i < extras.cameras_size(); ++i) {
         const auto& camera = extras.cameras(i);
-        const std::string name = camera.name().empty() ? source + ".cameras[" + std::to_string(i) + "]" : camera.name();
+        const std::string name =
+            camera.name().empty() ? source + ".cameras[" + std::to_string(i) + "]" : camera.name();
         additions.cameras.push_back({name, camera.camera()});
     }
     return additions;

@@ -3,10 +3,8 @@
 // or a glTF `extras.rt` object, both the JSON form of rt.SceneExtras
 // (proto/rt/scene.proto), and validated against that schema's limits.
 //
-// This file deliberately does not include scene.h: the generated rt::Sphere and
-// rt::Light messages share their names with the scene's structs, so the proto
-// side and the scene side of the sidecar live in different files (loader.cpp
-// adds what is read here to the scene).
+// Kept apart from scene.h so that protobuf headers stay out of the renderer's
+// hot code; loader.cpp adds what is read here to the scene.
 #pragma once
 
 #include <optional>

@@ -44,7 +44,7 @@ TEST(LoaderExtras, SidecarAddsSpheresLightsBackgroundAndCameras) {
 
 TEST(LoaderExtras, SchemaDefaultsFillWhatTheSidecarLeavesOut) {
     TempDir dir;
-    dir.write("s.rt.json", R"({"spheres": [{"radius": 1}], "lights": [{"position": [0, 1, 0]}]})");
+    dir.write("s.rt.json", R"({"spheres": [{"center": [0, 0, 0], "radius": 1}], "lights": [{"position": [0, 1, 0]}]})");
     const Scene scene = load_scene(dir.write("s.obj", kTriangleObj));
     ASSERT_EQ(scene.spheres.size(), 1u);
     const Material& material = scene.materials[scene.spheres[0].material];
@@ -64,7 +64,8 @@ TEST(LoaderExtras, GltfExtrasOnTheAssetAndTheSceneAreMerged) {
     GltfDoc doc;
     doc.add_mesh_node({{"attributes", {{"POSITION", doc.add_vec3({0, 0, 0, 1, 0, 0, 0, 1, 0})}}}});
     doc.json["asset"]["extras"]["rt"] = {{"background", {1, 1, 1}}};
-    doc.json["scenes"][0]["extras"]["rt"] = {{"background", {0, 0, 1}}, {"spheres", {{{"radius", 2}}}}};
+    const Json sphere = {{"center", {0, 0, 0}}, {"radius", 2}};
+    doc.json["scenes"][0]["extras"]["rt"] = {{"background", {0, 0, 1}}, {"spheres", {sphere}}};
     const Scene merged = load_text(doc.text(), "e.gltf");
     expect_vec3(merged.background, {0, 0, 1});  // the scene's extras come after the asset's
     EXPECT_EQ(merged.spheres.size(), 1u);
@@ -82,13 +83,17 @@ TEST(LoaderExtras, ValuesOutsideTheLimitsNameTheField) {
     const std::filesystem::path scene = dir.write("s.obj", kTriangleObj);
     dir.write("s.rt.json", R"({"spheres": [{"center": [0, 0, 0], "radius": -1}]})");
     EXPECT_EQ(scene_error([&] { load_scene(scene); }),
-              "s.rt.json: extras.spheres[0].radius: -1 is below the minimum 0");
+              "s.rt.json: extras.spheres[0].radius: -1 is below the minimum 1e-30");
     dir.write("s.rt.json", R"({"lights": [{"position": [0, 1]}]})");
     EXPECT_EQ(scene_error([&] { load_scene(scene); }), "s.rt.json: extras.lights[0].position: needs 3 values, got 2");
     dir.write("s.rt.json", R"({"background": [0, "NaN", 0]})");
     EXPECT_EQ(scene_error([&] { load_scene(scene); }), "s.rt.json: extras.background[1]: must be a finite number");
-    dir.write("s.rt.json", R"({"lights": [{"color": [3e38, 1, 1], "intensity": 1e30}]})");
+    dir.write("s.rt.json", R"({"lights": [{"position": [0, 0, 0], "color": [3e38, 1, 1], "intensity": 1e29}]})");
     EXPECT_TRUE(contains(scene_error([&] { load_scene(scene); }), "extras.lights[0]: color times intensity"));
+    dir.write("s.rt.json", R"({"spheres": [{"radius": 1}]})");
+    EXPECT_EQ(scene_error([&] { load_scene(scene); }), "s.rt.json: extras.spheres[0].center: is required");
+    dir.write("s.rt.json", R"({"cameras": [{"name": "empty"}]})");
+    EXPECT_EQ(scene_error([&] { load_scene(scene); }), "s.rt.json: extras.cameras[0].camera.position: is required");
     dir.write("s.rt.json", "{");
     EXPECT_TRUE(contains(scene_error([&] { load_scene(scene); }), "s.rt.json: extras: invalid JSON"));
 }

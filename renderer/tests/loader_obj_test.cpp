@@ -1,5 +1,7 @@
 // OBJ + MTL loading: fan triangulation, relative indices, de-indexing of
 // per-corner attributes, smoothing, the MTL to Phong mapping, map_Kd textures.
+#include <sstream>
+
 #include <gtest/gtest.h>
 
 #include "loader_test_util.h"
@@ -99,15 +101,18 @@ TEST(LoaderObj, MissingNormalsAreSmoothedAcrossTexcoordSeams) {
 
 TEST(LoaderObj, IllumModelsThreeFiveAndSevenReflect) {
     TempDir dir;
-    std::string mtl, obj = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    std::ostringstream mtl, obj;
+    obj << "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n";
     for (int illum = 0; illum <= 9; ++illum) {
-        mtl += "newmtl m" + std::to_string(illum) + "\nKs 0.5 0.25 0.125\nillum " + std::to_string(illum) + "\n";
-        obj += "usemtl m" + std::to_string(illum) + "\nf 1 2 3\n";
+        mtl << "newmtl m" << illum << "\nKs 0.5 0.25 0.125\nillum " << illum << "\n";
+        obj << "usemtl m" << illum << "\nf 1 2 3\n";
     }
-    dir.write("m.mtl", mtl);
-    const Scene scene = load_scene(dir.write("m.obj", obj));
+    dir.write("m.mtl", mtl.str());
+    const Scene scene = load_scene(dir.write("m.obj", obj.str()));
     for (int illum = 0; illum <= 9; ++illum) {
-        const Material& m = material_named(scene, "m" + std::to_string(illum));
+        std::string name = "m";
+        name += std::to_string(illum);
+        const Material& m = material_named(scene, name);
         const bool mirror = illum == 3 || illum == 5 || illum == 7;
         expect_vec3(m.reflectance, mirror ? vec3(0.5f, 0.25f, 0.125f) : vec3(0.0f));
         expect_vec3(m.specular, {0.5f, 0.25f, 0.125f});

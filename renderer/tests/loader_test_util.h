@@ -104,7 +104,8 @@ struct GltfDoc {
         while (data.size() % 4 != 0) data.push_back(0);
         const size_t offset = data.size();
         append(data, values);
-        json["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", values.size() * sizeof(T)}});
+        json["bufferViews"].push_back(
+            {{"buffer", 0}, {"byteOffset", offset}, {"byteLength", values.size() * sizeof(T)}});
         json["accessors"].push_back({{"bufferView", json["bufferViews"].size() - 1},
                                      {"componentType", component_type},
                                      {"count", values.size() / components},
@@ -132,8 +133,9 @@ struct GltfDoc {
     // The document with its buffer embedded as a data: URI.
     std::string text() const {
         Json out = json;
-        out["buffers"] = Json::array(
-            {{{"byteLength", data.size()}, {"uri", "data:application/octet-stream;base64," + base64(data)}}});
+        if (!data.empty())
+            out["buffers"] = Json::array(
+                {{{"byteLength", data.size()}, {"uri", "data:application/octet-stream;base64," + base64(data)}}});
         return out.dump();
     }
 

@@ -75,5 +75,16 @@ TEST(ProtoLimits, NonFiniteNumbersAreRefused) {
               "settings.position[1]: must be a finite number");
 }
 
+TEST(ProtoLimits, FloatFieldsAdmitTheirLimitsRoundedToFloat) {
+    // 1e30 is not a float; the nearest float lies above it and must still pass.
+    SceneExtras at_limits;
+    EXPECT_EQ(error_of(R"({"spheres": [{"center": [0, 0, 0], "radius": 1e30}]})", at_limits), "");
+    SceneExtras tiny;
+    EXPECT_EQ(error_of(R"({"spheres": [{"center": [0, 0, 0], "radius": 1e-30}]})", tiny), "");
+    SceneExtras beyond;
+    EXPECT_EQ(error_of(R"({"spheres": [{"center": [0, 0, 0], "radius": 2e30}]})", beyond),
+              "settings.spheres[0].radius: 2e+30 is above the maximum 1e+30");
+}
+
 }  // namespace
 }  // namespace rt

@@ -140,3 +140,19 @@ def test_tiles_render_concurrently_from_threads(cornell):
         t.join()
     full = cornell.render(camera, settings())
     np.testing.assert_array_equal(np.concatenate([results[k] for k in range(3)]), full)
+
+
+def test_parse_message_fills_defaults_and_names_bad_fields():
+    from rt import job_pb2
+
+    data = rtcore.parse_message("rt.JobRequest", json.dumps(
+        {"sceneId": "s1", "camera": {"position": [0, 1, 2], "target": [0, 0, 0]}, "settings": {"width": 64}}))
+    request = job_pb2.JobRequest.FromString(data)
+    assert request.settings.width == 64 and request.settings.height == 480
+    assert request.camera.fov_y == 45
+    with pytest.raises(ValueError, match=r"^body\.settings\.maxDepth: 65 is above the maximum 64$"):
+        rtcore.parse_message("rt.JobRequest", '{"settings": {"maxDepth": 65}}')
+    with pytest.raises(ValueError, match="widht"):
+        rtcore.parse_message("rt.RenderSettings", '{"widht": 3}')
+    with pytest.raises(ValueError, match="unknown message type rt.Nope"):
+        rtcore.parse_message("rt.Nope", "{}")

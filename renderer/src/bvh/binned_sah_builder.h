@@ -18,7 +18,7 @@
 namespace rt::bvh {
 
 struct BuildOptions {
-    uint32_t bin_count = 16;
+    uint32_t bin_count = 32;  // at most 32
     // Leaves are as small as the SAH finds cheapest, but never larger than this
     // unless their primitives cannot be told apart (equal centroids deep down).
     uint32_t max_leaf_size = 8;

@@ -15,9 +15,10 @@
 
 namespace rt::bvh {
 
-// (plane - origin) * inv_direction takes three roundings (the reciprocal
-// included), each off by at most gamma_bound(3) relative; an exit distance
-// raised by twice that is never below an entry distance it truly exceeds.
+// (plane - origin) * inv_direction rounds three times, the reciprocal included,
+// so a computed distance is within gamma_bound(3) of the exact one, relative to
+// its size. Exit distances raised by twice that never fall below an entry
+// distance they truly exceed.
 inline constexpr float kExitScale = 1.0f + 2.0f * gamma_bound(3);
 
 // Per-ray constants of the box test, computed once per ray.
@@ -64,24 +65,27 @@ inline float entry_distance(const Node& node, const BoxRay& ray, float t_max) {
     return t_enter <= t_exit && t_enter < t_max ? t_enter : kInfinity;
 }
 
-// Entry distances of two adjacent nodes, as entry_distance gives them.
+// Bits of ChildEntries::hits, placed where the AVX2 test's sign mask has them.
+inline constexpr uint32_t kHitLeft = 0x01;
+inline constexpr uint32_t kHitRight = 0x10;
+
+// What the ray does with the boxes of two adjacent nodes. An entry distance
+// means something only where its box is hit.
 struct ChildEntries {
     float left;
     float right;
-    uint32_t hits;  // bit 0: the left box is hit, bit 1: the right one
-
-    bool operator==(const ChildEntries&) const = default;
+    uint32_t hits;  // kHitLeft | kHitRight
 };
 
 inline ChildEntries child_entry_distances_scalar(const Node* children, const BoxRay& ray, float t_max) {
     const float left = entry_distance(children[0], ray, t_max);
     const float right = entry_distance(children[1], ray, t_max);
-    return {left, right, uint32_t(left < t_max) | uint32_t(right < t_max) << 1};
+    return {left, right, (left < t_max ? kHitLeft : 0u) | (right < t_max ? kHitRight : 0u)};
 }
 
 #if defined(__AVX2__)
 // Both boxes at once, in one lane half each; the same operations as
-// entry_distance, so the same results bit for bit.
+// entry_distance, so the same hits and entry distances bit for bit.
 inline ChildEntries child_entry_distances_avx2(const Node* children, const BoxRay& ray, float t_max) {
     const __m256 left = _mm256_load_ps(children[0].bounds_min);
     const __m256 right = _mm256_load_ps(children[1].bounds_min);
@@ -101,10 +105,10 @@ inline ChildEntries child_entry_distances_avx2(const Node* children, const BoxRa
     t_far = _mm256_min_ps(t_far, _mm256_permute_ps(t_far, 0b10110001));
     t_far = _mm256_min_ps(t_far, _mm256_permute_ps(t_far, 0b01001110));
     const __m256 hit = _mm256_and_ps(_mm256_cmp_ps(t_near, t_far, _CMP_LE_OQ), _mm256_cmp_ps(t_near, t_max8, _CMP_LT_OQ));
-    const __m256 entries = _mm256_blendv_ps(_mm256_set1_ps(kInfinity), t_near, hit);
-    const auto mask = uint32_t(_mm256_movemask_ps(hit));
-    return {_mm256_cvtss_f32(entries), _mm_cvtss_f32(_mm256_extractf128_ps(entries, 1)),
-            (mask & 1) | (mask >> 3 & 2)};
+    // The hit flags come from the mask: branching on it is quicker than on the
+    // extracted distances.
+    return {_mm256_cvtss_f32(t_near), _mm_cvtss_f32(_mm256_extractf128_ps(t_near, 1)),
+            uint32_t(_mm256_movemask_ps(hit)) & (kHitLeft | kHitRight)};
 }
 #endif
 
