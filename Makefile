@@ -77,6 +77,7 @@ run: build samples
 
 bench: build samples
 	$(BUILD)/renderer/bvh_bench --scenes $(SCENES)
+	$(PY) renderer/bench/seed_table.py --scenes $(SCENES) --rtrender $(BUILD)/rtrender --out $(BUILD)/bench
 
 clean:
 	rm -rf $(BUILD) $(OUT)

@@ -30,25 +30,11 @@
 namespace rt {
 namespace {
 
-// The sample scenes, and the row of the origin document's performance table
-// (Table 2) that each stands in for, where one does.
-struct SampleScene {
-    const char* file;
-    const char* seed_row = nullptr;  // name, triangles, render time, BVH levels
-};
-
-const SampleScene kScenes[] = {
-    {"cornell.obj", "Cornell box              32   168 ms    8"},
-    {"cornell_sphere_light.obj", "Cornell box sphere light 32   48.5 s    8"},
-    {"smooth_sphere.glb", "Monkey                   968  0.5 s     11"},
-    {"bunny.glb"},
-    {"dragon_4.glb"},
-    {"dragon_3.glb", "Dragon                   87K  0.5 s     12"},
-    {"dragon_2.glb"},
-    {"dragon_1.glb"},
-    {"teapot.glb", "Teacup                   48K  0.43 s    12"},
-    {"donut.glb", "Donut                    320K 6.5 s     12"},
-};
+// The sample scenes, smallest first within each family (bench/seed_table.py
+// sets them beside the origin document's performance table).
+const char* const kScenes[] = {"cornell.obj", "cornell_sphere_light.obj", "smooth_sphere.glb", "bunny.glb",
+                               "dragon_4.glb", "dragon_3.glb", "dragon_2.glb", "dragon_1.glb",
+                               "teapot.glb", "donut.glb"};
 
 struct Options {
     std::filesystem::path scenes;
@@ -325,14 +311,6 @@ void print_tables(const std::vector<Result>& results, unsigned threads) {
                     ratio_cell(r.shadow[1]).c_str(), r.primary_mismatches, r.primary_ours_wrong, r.shadow_mismatches,
                     r.shadow_ours_wrong, r.shadow_rays);
 
-    std::printf("\nOrigin document, Table 2 (render time)      | here: sample scene        tris  depth  build ms\n");
-    for (const SampleScene& sample : kScenes) {
-        if (!sample.seed_row) continue;
-        const auto r = std::find_if(results.begin(), results.end(), [&](const Result& x) { return x.scene == sample.file; });
-        if (r == results.end()) continue;
-        std::printf("%-44s | %-24s %7zu %5u %9.1f\n", sample.seed_row, r->scene.c_str(), r->triangles, r->stats.depth,
-                    r->stats.build_ms);
-    }
 }
 
 std::vector<std::string> split_list(const std::string& list) {
@@ -359,15 +337,15 @@ int run(int argc, char** argv) {
     std::printf("CPU: %s, %u threads; Embree %s; %ux%u primary rays per scene\n", cpu_model().c_str(), threads,
                 RTC_VERSION_STRING, options.size, options.size);
     std::vector<Result> results;
-    for (const SampleScene& sample : kScenes) {
-        const std::filesystem::path file = options.scenes / sample.file;
-        const bool wanted = options.only.empty() || std::find(options.only.begin(), options.only.end(), sample.file) != options.only.end();
+    for (const char* name : kScenes) {
+        const std::filesystem::path file = options.scenes / name;
+        const bool wanted = options.only.empty() || std::find(options.only.begin(), options.only.end(), name) != options.only.end();
         if (!wanted) continue;
         if (!std::filesystem::exists(file)) {
             std::printf("%s: missing, skipped\n", file.string().c_str());
             continue;
         }
-        std::printf("%s ...\n", sample.file);
+        std::printf("%s ...\n", name);
         std::fflush(stdout);
         results.push_back(run_scene(file, options, threads));
     }
