@@ -8,7 +8,6 @@ VENV    := .venv
 PY      := $(VENV)/bin/python
 JOBS    ?= $(shell nproc)
 SCENES  := $(BUILD)/scenes
-OUT     := out
 
 APT_PACKAGES := cmake ninja-build g++ ccache pkg-config git python3 python3-venv python3-dev \
   libopenimageio-dev libglm-dev libtinygltf-dev libtinyobjloader-dev libstb-dev \
@@ -21,7 +20,7 @@ export CCACHE_DIR ?= $(HOME)/.cache/ccache
 .PHONY: help deps venv build build-asan samples test test-cpp test-asan test-py run bench clean
 
 help:
-	@echo "make run    render the sample scenes to $(OUT)/"
+	@echo "make run    serve the app on http://127.0.0.1:8000 (HOST, PORT override)"
 	@echo "make test   build everything and run every test"
 	@echo "make build  build the renderer, rtrender and rtcore"
 	@echo "make bench  benchmarks (BVH against Embree)"
@@ -70,14 +69,36 @@ test-asan: build-asan samples
 test-py: build samples
 	$(PY) -m pytest -q tests
 
+# The viewer (web/): npm packages when node_modules is missing or older than the
+# lockfile; web/dist rebuilt (proto code generated first) unless it is newer than
+# every source of it.
+.PHONY: web test-web
+web: $(BUILD)/.deps
+	@if [ ! -d web/node_modules ] || [ web/package-lock.json -nt web/node_modules ]; then \
+	  (cd web && npm ci --no-audit --no-fund) && touch web/node_modules; \
+	fi
+	@if [ ! -f web/dist/index.html ] || [ -n "$$(find web/src web/scripts web/index.html web/vite.config.js \
+	    web/package.json web/package-lock.json proto/rt -newer web/dist/index.html -not -path 'web/src/gen/*' \
+	    -type f 2>/dev/null | head -1)" ]; then \
+	  cd web && npm run build; \
+	else echo "web/dist is up to date"; fi
+
+# The viewer in headless Debian chromium (installed when missing) against a
+# server the tests start on a free port; screenshots in test-artifacts/web/.
+test-web: build samples web
+	@test -x /usr/bin/chromium || { echo "Installing chromium"; apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null; }
+	node --test --test-reporter=spec tests/web/
+
 test: test-cpp test-asan test-py
 
+# The job service on http://$${HOST:-127.0.0.1}:$${PORT:-8000} with the sample scenes ready.
 run: build samples
-	$(PY) renderer/samples/render_samples.py --scenes $(SCENES) --out $(OUT) --rtrender $(BUILD)/rtrender
+	RT_SAMPLES_DIR=$(abspath $(SCENES)) PYTHONPATH=server $(PY) -m app
 
 bench: build samples
 	$(BUILD)/renderer/bvh_bench --scenes $(SCENES)
 	$(PY) renderer/bench/seed_table.py --scenes $(SCENES) --rtrender $(BUILD)/rtrender --out $(BUILD)/bench
 
 clean:
-	rm -rf $(BUILD) $(OUT)
+	rm -rf $(BUILD)

@@ -5,17 +5,21 @@
 // without touching this file.
 #include <chrono>
 #include <cstdio>
+#include <cctype>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
 #include <string>
+#include <vector>
 #include <unistd.h>
 
 #include <google/protobuf/descriptor.h>
 #include <google/protobuf/util/json_util.h>
 
 #include "accel.h"
+#include "aov.h"
 #include "default_camera.h"
 #include "image.h"
 #include "loader.h"
@@ -42,6 +46,7 @@ struct Options {
     bool quiet = false;
     bool debug_pixel = false;
     uint32_t debug_x = 0, debug_y = 0;
+    std::vector<rt::AuxOutput> aux;  // auxiliary outputs, as extra EXR channels
     rt::RenderSettings flags;  // settings given as flags; they override the file
 };
 
@@ -66,6 +71,8 @@ void print_help() {
         "  --camera-file FILE.json  rt.Camera in JSON: {position, target, up, fov_y}\n"
         "  --threads N              worker threads (default: all cores)\n"
         "  --tile-size N            tile edge in pixels (default 32); never changes the image\n"
+        "  --aux LIST               auxiliary outputs as extra EXR channels, comma-separated:\n"
+        "                           depth,normal,albedo,bvh_cost (rt.AuxOutput)\n"
         "  --debug-pixel X,Y        print the rays traced for one pixel (rt.DebugPath JSON)\n"
         "  --quiet                  no progress bar\n"
         "  -h, --help               this text\n"
@@ -92,6 +99,26 @@ T parse_number(const std::string& flag, const std::string& text) {
     if (!(in >> value) || !in.eof())
         throw UsageError(flag + ": '" + text + "' is not a number");
     return value;
+}
+
+std::vector<rt::AuxOutput> parse_aux_list(const std::string& text) {
+    std::vector<rt::AuxOutput> outputs;
+    std::istringstream in(text);
+    for (std::string name; std::getline(in, name, ',');) {
+        try {
+            outputs.push_back(rt::parse_aux_output(name));
+        } catch (const std::invalid_argument& e) {
+            throw UsageError(std::string("--aux: ") + e.what());
+        }
+    }
+    if (outputs.empty()) throw UsageError("--aux needs at least one of depth,normal,albedo,bvh_cost");
+    return outputs;
+}
+
+bool has_extension(const std::string& file, const std::string& extension) {
+    std::string lower = std::filesystem::path(file).extension().string();
+    for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return lower == extension;
 }
 
 void set_setting_flag(rt::RenderSettings& settings, const FieldDescriptor* field, const std::string& text) {
@@ -137,6 +164,8 @@ Options parse_arguments(int argc, char** argv) {
         } else if (arg == "--tile-size") {
             options.tile_size = parse_number<uint32_t>(arg, value());
             if (options.tile_size == 0) throw UsageError("--tile-size must be at least 1");
+        } else if (arg == "--aux") {
+            options.aux = parse_aux_list(value());
         } else if (arg == "--quiet") {
             options.quiet = true;
         } else if (arg == "--debug-pixel") {
@@ -163,6 +192,8 @@ Options parse_arguments(int argc, char** argv) {
     }
     if (options.scene.empty()) throw UsageError("no scene given (see --help)");
     if (options.output.empty() && !options.debug_pixel) throw UsageError("no output given: -o OUT.png or OUT.exr");
+    if (!options.aux.empty() && !options.output.empty() && !has_extension(options.output, ".exr"))
+        throw UsageError("--aux writes extra channels of an EXR: the output must be .exr, not " + options.output);
     if (!options.camera_name.empty() && !options.camera_file.empty())
         throw UsageError("--camera and --camera-file exclude each other");
     return options;
@@ -248,11 +279,13 @@ int run(const Options& options) {
 
     ProgressBar bar(!options.quiet);
     rt::RayCounts counts;
+    rt::AuxImage aux(renderer.settings().width(), renderer.settings().height(), options.aux);
     const auto start = std::chrono::steady_clock::now();
     const rt::Image image = renderer.render(options.threads, options.tile_size,
-                                            [&](size_t done, size_t total) { bar.update(done, total); }, counts);
+                                            [&](size_t done, size_t total) { bar.update(done, total); }, counts,
+                                            &aux);
     const double render_ms = milliseconds_since(start);
-    rt::write_image(options.output, image);
+    rt::write_image(options.output, image, &aux);
 
     const auto& stats = accel.stats();
     std::printf("rtrender: %zu triangles, %zu spheres, BVH %zu nodes depth %u, build %.1f ms, "

@@ -14,7 +14,8 @@ namespace {
 // bench/bvh_bench.cpp (1 and 3 were within a few percent).
 constexpr float kTraversalCost = 2.0f;
 
-// What a traversal did, for the debugger: counted, or recorded node by node.
+// What a traversal did, for the debugger and the BVH-cost output: counted, or
+// recorded node by node.
 // The plain queries' observer does nothing and compiles away.
 struct CountingObserver {
     TraversalStats& stats;
@@ -168,6 +169,10 @@ bool Accelerator::intersect(const Ray& ray, Hit& hit, TraversalRecord& record) c
 }
 
 bool Accelerator::occluded(const Ray& ray) const { return any_hit(ray, SilentObserver{}); }
+
+bool Accelerator::occluded(const Ray& ray, TraversalStats& stats) const {
+    return any_hit(ray, CountingObserver{stats});
+}
 
 bool Accelerator::occluded(const Ray& ray, TraversalRecord& record) const {
     return any_hit(ray, RecordingObserver{record});

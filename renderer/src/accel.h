@@ -37,13 +37,14 @@ class Accelerator {
     explicit Accelerator(const Scene& scene, unsigned threads = 0);
 
     // Closest hit with 0 < t < ray.t_max. The overloads taking stats or a
-    // record add this traversal to what they already hold.
+    // record (here and below) add this traversal to what they already hold.
     bool intersect(const Ray& ray, Hit& hit) const;
     bool intersect(const Ray& ray, Hit& hit, TraversalStats& stats) const;
     bool intersect(const Ray& ray, Hit& hit, TraversalRecord& record) const;
 
     // Any hit with 0 < t < ray.t_max; stops at the first one.
     bool occluded(const Ray& ray) const;
+    bool occluded(const Ray& ray, TraversalStats& stats) const;
     bool occluded(const Ray& ray, TraversalRecord& record) const;
 
     const bvh::Bvh& bvh() const { return bvh_; }

@@ -2,6 +2,7 @@
 // every index, count and number it hands back is checked here, and material
 // libraries and textures are read through the scene folder (scene_files.h).
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <map>
 #include <optional>
@@ -259,11 +260,44 @@ std::string without_skin_weights(std::span<const unsigned char> data) {
     return text;
 }
 
+// tinyobjloader reads a number it cannot parse ("nan", "1e999", "x") as 0, so a
+// broken vertex would silently move to the origin: vertex lines are checked here.
+void check_vertex_numbers(std::string_view text, const std::string& name) {
+    size_t number = 0;
+    for (size_t line = 0; line < text.size(); ++number) {
+        const size_t end = std::min(text.find_first_of("\r\n", line), text.size());
+        std::string_view rest = text.substr(line, end - line);
+        line = end + (end < text.size() && text[end] == '\r' && end + 1 < text.size() && text[end + 1] == '\n' ? 2 : 1);
+        const size_t start = rest.find_first_not_of(" \t");
+        if (start == std::string_view::npos) continue;
+        rest.remove_prefix(start);
+        const size_t keyword_end = rest.find_first_of(" \t");
+        const std::string_view keyword = rest.substr(0, keyword_end);
+        if (keyword != "v" && keyword != "vn" && keyword != "vt") continue;
+        rest.remove_prefix(std::min(keyword_end, rest.size()));
+        while (true) {
+            const size_t token_start = rest.find_first_not_of(" \t");
+            if (token_start == std::string_view::npos || rest[token_start] == '#') break;
+            rest.remove_prefix(token_start);
+            const std::string_view token = rest.substr(0, rest.find_first_of(" \t"));
+            double value = 0.0;
+            const char* first = token.data() + (token.front() == '+' ? 1 : 0);
+            const auto [ptr, ec] = std::from_chars(first, token.data() + token.size(), value);
+            if (ec != std::errc() || ptr != token.data() + token.size() || !std::isfinite(value))
+                throw SceneError(name + ": line " + std::to_string(number + 1) + ": " + std::string(keyword) +
+                                 " value '" + std::string(token.substr(0, 32)) + "' is not a finite number");
+            rest.remove_prefix(token.size());
+        }
+    }
+}
+
 }  // namespace
 
 LoadedScene load_obj(std::span<const unsigned char> data, const SceneFolder& folder) {
     const std::string& name = folder.scene_name();
-    std::istringstream stream(without_skin_weights(data));
+    const std::string text = without_skin_weights(data);
+    check_vertex_numbers(text, name);
+    std::istringstream stream(text);
     FolderMaterialReader reader(folder);
     tinyobj::attrib_t attrib;
     std::vector<tinyobj::shape_t> shapes;

@@ -42,19 +42,39 @@ Ray Renderer::camera_ray(uint32_t x, uint32_t y) const {
     return pinhole_.generate_ray(float(x) + 0.5f, float(y) + 0.5f);
 }
 
-RayCounts Renderer::render_tile(const TileRect& tile, float* rgb) const {
+void Renderer::check_tile(const TileRect& tile, uint32_t scale) const {
     if (tile.width == 0 || tile.height == 0 || tile.x >= settings_.width() || tile.y >= settings_.height() ||
         tile.width > settings_.width() - tile.x || tile.height > settings_.height() - tile.y)
         throw std::invalid_argument("tile (" + std::to_string(tile.x) + ", " + std::to_string(tile.y) + ", " +
                                     std::to_string(tile.width) + "x" + std::to_string(tile.height) +
                                     ") is not inside the " + std::to_string(settings_.width()) + "x" +
                                     std::to_string(settings_.height()) + " image");
+    if (scale == 0) throw std::invalid_argument("scale must be at least 1");
+}
+
+RayCounts Renderer::render_tile(const TileRect& tile, float* rgb, const AuxLayers& aux, uint32_t scale) const {
+    check_tile(tile, scale);
+    return render_pixels(tile, scale, rgb, aux, preview_extent(tile.width, scale));
+}
+
+RayCounts Renderer::render_pixels(const TileRect& tile, uint32_t scale, float* rgb, const AuxLayers& aux,
+                                  size_t row_pixels) const {
     RayCounts counts;
-    for (uint32_t j = 0; j < tile.height; ++j) {
-        for (uint32_t i = 0; i < tile.width; ++i) {
-            const uint32_t x = tile.x + i, y = tile.y + j;
-            const vec3 c = integrator_.radiance(camera_ray(x, y), pixel_key(x, y), counts);
-            float* out = rgb + (size_t(j) * tile.width + i) * 3;
+    const uint32_t rows = preview_extent(tile.height, scale), columns = preview_extent(tile.width, scale);
+    for (uint32_t j = 0; j < rows; ++j) {
+        for (uint32_t i = 0; i < columns; ++i) {
+            const uint32_t x = tile.x + i * scale, y = tile.y + j * scale;
+            const size_t index = j * row_pixels + i;
+            vec3 c;
+            // One test per pixel keeps the colour-only path free of the outputs' work.
+            if (aux.empty()) {
+                c = integrator_.radiance(camera_ray(x, y), pixel_key(x, y), counts);
+            } else {
+                AuxSample sample;
+                c = integrator_.radiance(camera_ray(x, y), pixel_key(x, y), counts, sample);
+                aux.store(index, sample);
+            }
+            float* out = rgb + index * 3;
             out[0] = c.r;
             out[1] = c.g;
             out[2] = c.b;
@@ -63,10 +83,15 @@ RayCounts Renderer::render_tile(const TileRect& tile, float* rgb) const {
     return counts;
 }
 
-Image Renderer::render(unsigned threads, uint32_t tile_size, const ProgressCallback& progress,
-                       RayCounts& counts) const {
+Image Renderer::render(unsigned threads, uint32_t tile_size, const ProgressCallback& progress, RayCounts& counts,
+                       AuxImage* aux) const {
     if (tile_size == 0) throw std::invalid_argument("tile size must be at least 1");
     const uint32_t width = settings_.width(), height = settings_.height();
+    if (aux && (aux->width != width || aux->height != height))
+        throw std::invalid_argument("auxiliary outputs of " + std::to_string(aux->width) + "x" +
+                                    std::to_string(aux->height) + " pixels for a " + std::to_string(width) + "x" +
+                                    std::to_string(height) + " image");
+    const AuxLayers layers = aux ? aux->layers() : AuxLayers{};
     Image image(width, height);
     std::vector<TileRect> tiles;
     for (uint32_t y = 0; y < height; y += tile_size)
@@ -77,15 +102,12 @@ Image Renderer::render(unsigned threads, uint32_t tile_size, const ProgressCallb
     std::mutex mutex;  // guards counts, done and the progress callback
     size_t done = 0;
     auto work = [&] {
-        std::vector<float> buffer;
         RayCounts local;
         for (size_t index; (index = next.fetch_add(1)) < tiles.size();) {
+            // Tiles write straight into the image: their pixels never overlap.
             const TileRect& tile = tiles[index];
-            buffer.resize(size_t(tile.width) * tile.height * 3);
-            local += render_tile(tile, buffer.data());
-            for (uint32_t j = 0; j < tile.height; ++j)
-                std::copy_n(&buffer[size_t(j) * tile.width * 3], size_t(tile.width) * 3,
-                            &image.rgb[(size_t(tile.y + j) * width + tile.x) * 3]);
+            const size_t first = size_t(tile.y) * width + tile.x;
+            local += render_pixels(tile, 1, &image.rgb[first * 3], layers.from(first), width);
             std::lock_guard lock(mutex);
             ++done;
             if (progress) progress(done, tiles.size());

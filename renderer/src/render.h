@@ -6,6 +6,7 @@
 #include <functional>
 
 #include "accel.h"
+#include "aov.h"
 #include "camera.h"
 #include "image.h"
 #include "rt/debug.pb.h"
@@ -32,18 +33,29 @@ class Renderer {
 
     const RenderSettings& settings() const { return settings_; }
 
-    // Renders `tile` into `rgb` (3 floats per pixel, tile rows top to bottom).
-    // Throws std::invalid_argument when the tile is not inside the image.
-    RayCounts render_tile(const TileRect& tile, float* rgb) const;
+    // Throws std::invalid_argument when `tile` is not inside the image or
+    // `scale` is 0: render_tile's checks, for callers sizing buffers first.
+    void check_tile(const TileRect& tile, uint32_t scale = 1) const;
 
-    // The whole image on `threads` threads (0: all cores) in square tiles.
-    Image render(unsigned threads, uint32_t tile_size, const ProgressCallback& progress,
-                 RayCounts& counts) const;
+    // Renders `tile` into `rgb` (3 floats per pixel, rows top to bottom) and
+    // into the auxiliary layers `aux` points to. With `scale` s > 1 it is a
+    // preview: one pixel per s x s block, the block's top-left pixel computed
+    // exactly as the full-resolution render computes it, ceil(width / s) by
+    // ceil(height / s) pixels in all (preview_extent). Throws as check_tile does.
+    RayCounts render_tile(const TileRect& tile, float* rgb, const AuxLayers& aux = {}, uint32_t scale = 1) const;
+
+    // The whole image on `threads` threads (0: all cores) in square tiles, and
+    // the layers `aux` holds, when given (it must have the image's size).
+    Image render(unsigned threads, uint32_t tile_size, const ProgressCallback& progress, RayCounts& counts,
+                 AuxImage* aux = nullptr) const;
 
     // Every ray traced for one pixel. Throws std::invalid_argument outside the image.
     DebugPath debug_pixel(uint32_t x, uint32_t y) const;
 
   private:
+    // render_tile without the checks, writing output row j at pixel j * row_pixels.
+    RayCounts render_pixels(const TileRect& tile, uint32_t scale, float* rgb, const AuxLayers& aux,
+                            size_t row_pixels) const;
     Ray camera_ray(uint32_t x, uint32_t y) const;
     static uint32_t pixel_key(uint32_t x, uint32_t y);
 
@@ -54,5 +66,8 @@ class Renderer {
 };
 
 unsigned resolve_thread_count(unsigned requested);
+
+// Pixels a preview at `scale` has along an edge of `extent` >= 1 pixels: ceil(extent / scale).
+inline uint32_t preview_extent(uint32_t extent, uint32_t scale) { return 1 + (extent - 1) / scale; }
 
 }  // namespace rt

@@ -22,7 +22,35 @@ struct CountingRecorder {
         occluded = accel.occluded(ray);
         return -1;
     }
-    void surface(int, const SurfaceHit&, const Hit&, const Material&) {}
+    void surface(int, const SurfaceHit&, const Hit&, const Material&, vec3) {}
+    void contribution(int, vec3) {}
+};
+
+// The hot path's counts plus the auxiliary outputs: every ray's traversal
+// cost, and the primary hit's surface. Like the debugger's, its segment 0 is
+// the primary ray.
+struct AuxRecorder {
+    RayCounts& counts;
+    AuxSample& aux;
+
+    int closest(const Accelerator& accel, const Ray& ray, RayKind kind, uint32_t, int, vec3, Hit& hit) {
+        (kind == PRIMARY ? counts.camera : counts.reflection) += 1;
+        accel.intersect(ray, hit, aux.cost);
+        if (kind != PRIMARY) return -1;
+        // Camera rays have unit directions: t is the distance.
+        if (hit.found()) aux.depth = hit.t;
+        return 0;
+    }
+    int shadow(const Accelerator& accel, const Ray& ray, uint32_t, int, bool& occluded) {
+        ++counts.shadow;
+        occluded = accel.occluded(ray, aux.cost);
+        return -1;
+    }
+    void surface(int segment, const SurfaceHit& s, const Hit&, const Material&, vec3 diffuse) {
+        if (segment != 0) return;
+        aux.normal = s.ns;
+        aux.albedo = diffuse;
+    }
     void contribution(int, vec3) {}
 };
 
@@ -70,7 +98,7 @@ struct DebugRecorder {
         set_vec3(segment.mutable_end(), ray.at(ray.t_max));
         return path.segments_size() - 1;
     }
-    void surface(int index, const SurfaceHit& s, const Hit& hit, const Material& m) {
+    void surface(int index, const SurfaceHit& s, const Hit& hit, const Material& m, vec3) {
         RaySegment& segment = *path.mutable_segments(index);
         set_vec3(segment.mutable_end(), s.p);
         set_vec3(segment.mutable_normal(), s.ns);
@@ -105,6 +133,11 @@ vec3 WhittedIntegrator::radiance(const Ray& ray, uint32_t pixel_key, RayCounts& 
     return trace(ray, 0, vec3(1.0f), -1, pixel_key, recorder);
 }
 
+vec3 WhittedIntegrator::radiance(const Ray& ray, uint32_t pixel_key, RayCounts& counts, AuxSample& aux) const {
+    AuxRecorder recorder{counts, aux};
+    return trace(ray, 0, vec3(1.0f), -1, pixel_key, recorder);
+}
+
 vec3 WhittedIntegrator::radiance(const Ray& ray, uint32_t pixel_key, DebugPath& path) const {
     const Bounds3 bounds = scene_.bounds();
     const float extent = bounds.empty() ? 1.0f : glm::length(bounds.extent());
@@ -126,10 +159,10 @@ vec3 WhittedIntegrator::trace(const Ray& ray, uint32_t depth, vec3 weight, int p
     const vec3 wo = -ray.direction;
     face_viewer(s, wo);
     const Material& m = scene_.materials[s.material];
-    recorder.surface(segment, s, hit, m);
-
     vec3 diffuse = m.diffuse;
     if (m.diffuse_texture >= 0) diffuse *= scene_.textures[size_t(m.diffuse_texture)].sample(s.uv);
+    recorder.surface(segment, s, hit, m, diffuse);
+
     vec3 color = direct_light(s, wo, m, diffuse, depth, segment, pixel_key, recorder);
     recorder.contribution(segment, color);
 

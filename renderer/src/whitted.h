@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "accel.h"
+#include "aov.h"
 #include "ray.h"
 #include "rt/debug.pb.h"
 #include "rt/render.pb.h"
@@ -35,6 +36,10 @@ class WhittedIntegrator {
     // Linear RGB carried back along a camera ray. `pixel_key` seeds the pixel's
     // light samples, so the result is the same whichever thread computes it.
     vec3 radiance(const Ray& ray, uint32_t pixel_key, RayCounts& counts) const;
+
+    // The same, also reporting the primary hit's depth, normal and albedo and
+    // the BVH traversal cost of every ray traced (aov.h).
+    vec3 radiance(const Ray& ray, uint32_t pixel_key, RayCounts& counts, AuxSample& aux) const;
 
     // The same, recording every ray it traces into `path` for the debugger.
     vec3 radiance(const Ray& ray, uint32_t pixel_key, DebugPath& path) const;

@@ -280,6 +280,13 @@ TEST(LoaderHostile, ObjNonFiniteCoordinatesAreRefused) {
                     "n.obj: v #2 is not a finite float");
     const std::string huge_normal = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 1e39 0 0\nf 1//1 2//1 3//1\n";
     EXPECT_MENTIONS(scene_error([&] { load_text(huge_normal, "n.obj"); }), "n.obj: vn #1 is not a finite float");
+    // tinyobjloader reads what it cannot parse as 0; we refuse it by line.
+    EXPECT_MENTIONS(scene_error([] { load_text("v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n", "n.obj"); }),
+                    "n.obj: line 2: v value 'nan' is not a finite number");
+    EXPECT_MENTIONS(scene_error([] { load_text("v 0 0 0\r\nv 1 0 0\r\nvt 0.5 x\r\n", "n.obj"); }),
+                    "n.obj: line 3: vt value 'x' is not a finite number");
+    EXPECT_MENTIONS(scene_error([] { load_text("v 0 0 1e999\n", "n.obj"); }), "line 1: v value '1e999'");
+    EXPECT_NO_THROW(load_text("v +1 -2 3e-2 # comment\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "ok.obj"));
 }
 
 TEST(LoaderHostile, ObjIndicesOutOfRangeAreRefused) {

@@ -74,3 +74,48 @@ def test_errors_name_the_problem(rtrender, scenes_dir, tmp_path):
         result = run(rtrender, *args)
         assert result.returncode == code, (args, result.stderr)
         assert message in result.stderr, (args, result.stderr)
+
+
+def exr_channels(path):
+    """The channel names in an OpenEXR header (its `channels` attribute)."""
+    data = path.read_bytes()
+    assert data[:4] == b"\x76\x2f\x31\x01"
+    at = 8
+    while data[at] != 0:
+        name_end = data.index(b"\0", at)
+        type_end = data.index(b"\0", name_end + 1)
+        size = int.from_bytes(data[type_end + 1:type_end + 5], "little")
+        value = data[type_end + 5:type_end + 5 + size]
+        if data[at:name_end] == b"channels":
+            names, i = [], 0
+            while value[i] != 0:
+                end = value.index(b"\0", i)
+                names.append(value[i:end].decode())
+                i = end + 1 + 16  # pixel type, pLinear + reserved, x and y sampling
+            return names
+        at = type_end + 5 + size
+    raise AssertionError("no channels attribute")
+
+
+def test_aux_outputs_are_extra_exr_channels(rtrender, scenes_dir, tmp_path):
+    out = tmp_path / "aux.exr"
+    result = run(rtrender, scenes_dir / "cornell.obj", "-o", out, "--width", 32, "--height", 24, "--quiet",
+                 "--aux", "depth,normal,albedo,bvh_cost")
+    assert result.returncode == 0, result.stderr
+    assert sorted(exr_channels(out)) == sorted(
+        ["R", "G", "B", "depth.Z", "normal.X", "normal.Y", "normal.Z", "albedo.R", "albedo.G", "albedo.B",
+         "bvh_cost.nodes", "bvh_cost.triangles"])
+    plain = tmp_path / "plain.exr"
+    assert run(rtrender, scenes_dir / "cornell.obj", "-o", plain, "--width", 32, "--height", 24,
+               "--quiet").returncode == 0
+    assert sorted(exr_channels(plain)) == ["B", "G", "R"]
+
+
+def test_aux_outputs_need_an_exr_and_known_names(rtrender, scenes_dir, tmp_path):
+    result = run(rtrender, scenes_dir / "cornell.obj", "-o", tmp_path / "x.png", "--aux", "depth")
+    assert result.returncode == 2
+    assert "--aux" in result.stderr and "must be .exr" in result.stderr
+    assert not (tmp_path / "x.png").exists()
+    result = run(rtrender, scenes_dir / "cornell.obj", "-o", tmp_path / "x.exr", "--aux", "depth,speed")
+    assert result.returncode == 2
+    assert "unknown auxiliary output 'speed'" in result.stderr and "bvh_cost" in result.stderr

@@ -156,3 +156,94 @@ def test_parse_message_fills_defaults_and_names_bad_fields():
         rtcore.parse_message("rt.RenderSettings", '{"widht": 3}')
     with pytest.raises(ValueError, match="unknown message type rt.Nope"):
         rtcore.parse_message("rt.Nope", "{}")
+
+
+@pytest.mark.parametrize("name", ["cornell.obj", "bunny.glb"])
+def test_to_glb_reloads_as_the_same_scene(scenes_dir, name):
+    scene = rtcore.Scene.load(str(scenes_dir / name))
+    glb = scene.to_glb()
+    assert isinstance(glb, bytes)
+    assert glb[:4] == b"glTF"
+    assert int.from_bytes(glb[4:8], "little") == 2 and int.from_bytes(glb[8:12], "little") == len(glb)
+    back = rtcore.Scene.from_bytes(glb, "x.glb")
+    assert back.triangle_count == scene.triangle_count
+    np.testing.assert_array_equal(back.bounds, scene.bounds)
+    assert [light["position"] for light in back.lights] == [light["position"] for light in scene.lights]
+
+
+ALL_AUX = ["depth", "normal", "albedo", "bvh_cost"]
+
+
+def test_aux_layers_come_with_the_colour(cornell):
+    camera = cornell.default_camera
+    plain = cornell.render_tile(camera, settings(), 0, 0, 48, 36)
+    result = cornell.render_tile(camera, settings(), 0, 0, 48, 36, aux=ALL_AUX)
+    assert set(result) == {"color", "depth", "normal", "albedo", "bvh_cost", "rays"}
+    np.testing.assert_array_equal(result["color"], plain)
+    assert result["depth"].shape == (36, 48) and result["depth"].dtype == np.float32
+    assert result["normal"].shape == result["albedo"].shape == (36, 48, 3)
+    assert result["bvh_cost"].shape == (36, 48, 2) and result["bvh_cost"].dtype == np.uint32
+    assert result["rays"] >= 48 * 36
+
+    hit = result["depth"] > 0
+    assert hit.mean() > 0.5, "the box fills most of the view"
+    np.testing.assert_allclose(np.linalg.norm(result["normal"][hit], axis=1), 1.0, atol=1e-5)
+    assert (result["albedo"][hit] > 0).any(axis=1).all()
+    assert (result["normal"][~hit] == 0).all() and (result["albedo"][~hit] == 0).all()
+    assert (result["bvh_cost"][hit] > 0).all()
+
+    # Proto enum values name the same layers; only the ones asked for come back.
+    from rt import job_pb2
+
+    by_value = cornell.render_tile(camera, settings(), 0, 0, 48, 36, aux=[job_pb2.DEPTH])
+    assert set(by_value) == {"color", "depth", "rays"}
+    np.testing.assert_array_equal(by_value["depth"], result["depth"])
+    assert by_value["rays"] == result["rays"]
+
+
+def test_normals_face_the_camera(cornell):
+    camera = render_pb2.Camera.FromString(cornell.default_camera)
+    result = cornell.render_tile(cornell.default_camera, settings(), 0, 0, 48, 36, aux=["normal", "depth"])
+    # A ray through each pixel centre, as the pinhole camera makes it.
+    position, target = np.array(camera.position), np.array(camera.target)
+    forward = (target - position) / np.linalg.norm(target - position)
+    right = np.cross(forward, camera.up or [0, 1, 0])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    tan_y = np.tan(np.radians(camera.fov_y) / 2)
+    ys, xs = np.mgrid[0:36, 0:48] + 0.5
+    directions = (forward + (2 * xs / 48 - 1)[..., None] * right * tan_y * 48 / 36
+                  + (1 - 2 * ys / 36)[..., None] * up * tan_y)
+    hit = result["depth"] > 0
+    assert (np.einsum("ijk,ijk->ij", result["normal"], directions)[hit] < 0).all()
+
+
+def test_bvh_cost_grows_with_max_depth_in_the_mirror(cornell):
+    mirror = dict(cornell.cameras)["mirror"]
+    costs = [cornell.render_tile(mirror, settings(max_depth=d), 0, 0, 48, 36, aux=["bvh_cost"])
+             for d in (0, 1)]
+    assert costs[1]["bvh_cost"].astype(np.int64).sum() > costs[0]["bvh_cost"].astype(np.int64).sum()
+    assert costs[1]["rays"] > costs[0]["rays"]
+
+
+def test_bad_aux_names_are_refused(cornell):
+    with pytest.raises(ValueError, match="unknown auxiliary output 'speed'"):
+        cornell.render_tile(cornell.default_camera, settings(), 0, 0, 4, 4, aux=["speed"])
+    with pytest.raises(ValueError, match="unknown auxiliary output 9"):
+        cornell.render_tile(cornell.default_camera, settings(), 0, 0, 4, 4, aux=[9])
+    with pytest.raises(ValueError, match="list of names"):
+        cornell.render_tile(cornell.default_camera, settings(), 0, 0, 4, 4, aux="depth")
+
+
+def test_preview_tile_pixels_are_the_final_pixels(cornell):
+    mirror = dict(cornell.cameras)["mirror"]
+    x, y, w, h = 3, 5, 30, 26
+    full = cornell.render_tile(mirror, settings(), x, y, w, h, aux=ALL_AUX)
+    preview = cornell.render_tile(mirror, settings(), x, y, w, h, aux=ALL_AUX, scale=4)
+    assert preview["color"].shape == (7, 8, 3)  # ceil(26 / 4), ceil(30 / 4)
+    for key in ("color", *ALL_AUX):
+        np.testing.assert_array_equal(preview[key], full[key][::4, ::4], err_msg=key)
+    np.testing.assert_array_equal(cornell.render_tile(mirror, settings(), x, y, w, h, scale=4),
+                                  full["color"][::4, ::4])
+    with pytest.raises(ValueError, match="scale must be at least 1"):
+        cornell.render_tile(mirror, settings(), x, y, w, h, scale=0)

@@ -1,0 +1,47 @@
+# rt: one image for the server, the Dask scheduler and the workers.
+# Stage 1 builds the renderer (rtrender, rtcore, generated proto code) once;
+# stage 2 builds the viewer; stage 3 is the runtime with only what they need.
+
+FROM debian:bookworm AS renderer
+RUN apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
+      cmake ninja-build g++ pkg-config python3 python3-venv python3-dev \
+      libopenimageio-dev libglm-dev libtinygltf-dev libtinyobjloader-dev libstb-dev nlohmann-json3-dev \
+      libprotobuf-dev protobuf-compiler libgtest-dev \
+    && rm -rf /var/lib/apt/lists/*
+WORKDIR /src
+COPY requirements.txt .
+RUN python3 -m venv /opt/venv && /opt/venv/bin/pip install --no-cache-dir -r requirements.txt
+COPY proto proto
+COPY renderer renderer
+# Portable code: the image may run on another CPU than the one that built it.
+RUN cmake -S renderer -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DRT_NATIVE=OFF -DRT_BENCH=OFF \
+      -DPython_EXECUTABLE=/opt/venv/bin/python -DRT_RUNTIME_DIR=/src/build \
+    && cmake --build build --target rtrender rtcore rt_proto_python
+
+FROM node:20-bookworm-slim AS web
+RUN apt-get update && apt-get install -y --no-install-recommends protobuf-compiler && rm -rf /var/lib/apt/lists/*
+WORKDIR /src
+COPY proto proto
+COPY web/package.json web/package-lock.json web/
+RUN cd web && npm ci
+COPY web web
+RUN cd web && npm run build
+
+FROM debian:bookworm-slim
+RUN apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
+      python3 libopenimageio2.4 libprotobuf32 \
+    && rm -rf /var/lib/apt/lists/*
+COPY --from=renderer /opt/venv /opt/venv
+COPY --from=renderer /src/build/rtrender /usr/local/bin/rtrender
+COPY --from=renderer /src/build/python /opt/rt/python
+COPY --from=web /src/web/dist /opt/rt/web
+COPY server /opt/rt/server
+ENV PATH=/opt/venv/bin:$PATH \
+    PYTHONPATH=/opt/rt/server:/opt/rt/python \
+    RT_WEB_DIR=/opt/rt/web \
+    RT_DATA_DIR=/data \
+    HOST=0.0.0.0 \
+    PORT=8000
+VOLUME /data
+EXPOSE 8000
+CMD ["python", "-m", "app"]

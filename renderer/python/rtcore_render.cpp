@@ -1,0 +1,92 @@
+// Rendering from Python: tiles (with their auxiliary outputs and previews),
+// whole images and debugger paths.
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "aov.h"
+#include "render.h"
+#include "rtcore_convert.h"
+#include "rtcore_scene.h"
+
+namespace rtcore {
+namespace {
+
+// A list of names ("depth") or rt.AuxOutput values (1); a lone string is
+// refused rather than read letter by letter.
+std::vector<rt::AuxOutput> read_aux(nb::handle aux) {
+    const char* expected = "aux: expected a list of names (depth, normal, albedo, bvh_cost) or rt.AuxOutput values";
+    if (nb::isinstance<nb::str>(aux) || nb::isinstance<nb::bytes>(aux)) throw std::invalid_argument(expected);
+    std::vector<rt::AuxOutput> outputs;
+    for (nb::handle item : aux) {
+        if (nb::isinstance<nb::str>(item))
+            outputs.push_back(rt::parse_aux_output(nb::borrow<nb::str>(item).c_str()));
+        else if (nb::isinstance<nb::int_>(item) && !nb::isinstance<nb::bool_>(item))
+            outputs.push_back(rt::aux_output_from_value(nb::cast<int>(item)));
+        else
+            throw std::invalid_argument(expected);
+    }
+    return outputs;
+}
+
+}  // namespace
+
+nb::object PyScene::render_tile(nb::handle camera, nb::handle settings, uint32_t x, uint32_t y, uint32_t width,
+                                uint32_t height, nb::handle aux, uint32_t scale) const {
+    const rt::Renderer renderer(*accel_, read_message<rt::RenderSettings>(settings, "settings"),
+                                read_message<rt::Camera>(camera, "camera"));
+    const rt::TileRect tile{x, y, width, height};
+    renderer.check_tile(tile, scale);
+    const std::vector<rt::AuxOutput> outputs = aux.is_none() ? std::vector<rt::AuxOutput>{} : read_aux(aux);
+    const size_t w = rt::preview_extent(width, scale), h = rt::preview_extent(height, scale);
+    std::vector<float> rgb(w * h * 3);
+    rt::AuxImage layers(uint32_t(w), uint32_t(h), outputs);
+    rt::RayCounts counts;
+    {
+        nb::gil_scoped_release release;
+        counts = renderer.render_tile(tile, rgb.data(), layers.layers(), scale);
+    }
+    auto color = to_numpy(std::move(rgb), {h, w, 3});
+    if (aux.is_none()) return nb::cast(color);
+
+    nb::dict result;
+    result["color"] = color;
+    for (rt::AuxOutput output : layers.outputs()) {
+        const std::string key = rt::aux_name(output);
+        switch (output) {
+            case rt::DEPTH: result[key.c_str()] = to_numpy(std::move(layers.depth), {h, w}); break;
+            case rt::NORMAL: result[key.c_str()] = to_numpy(std::move(layers.normal), {h, w, 3}); break;
+            case rt::ALBEDO: result[key.c_str()] = to_numpy(std::move(layers.albedo), {h, w, 3}); break;
+            default: result[key.c_str()] = to_numpy(std::move(layers.bvh_cost), {h, w, 2}); break;
+        }
+    }
+    result["rays"] = counts.total();
+    return result;
+}
+
+nb::ndarray<nb::numpy, float> PyScene::render(nb::handle camera, nb::handle settings, unsigned threads,
+                                              uint32_t tile_size) const {
+    const rt::Renderer renderer(*accel_, read_message<rt::RenderSettings>(settings, "settings"),
+                                read_message<rt::Camera>(camera, "camera"));
+    rt::Image image;
+    {
+        nb::gil_scoped_release release;
+        rt::RayCounts counts;
+        image = renderer.render(threads, tile_size, nullptr, counts);
+    }
+    const size_t w = image.width, h = image.height;
+    return to_numpy(std::move(image.rgb), {h, w, 3});
+}
+
+nb::bytes PyScene::debug_path(nb::handle camera, nb::handle settings, uint32_t x, uint32_t y) const {
+    const rt::Renderer renderer(*accel_, read_message<rt::RenderSettings>(settings, "settings"),
+                                read_message<rt::Camera>(camera, "camera"));
+    rt::DebugPath path;
+    {
+        nb::gil_scoped_release release;
+        path = renderer.debug_pixel(x, y);
+    }
+    return to_bytes(path);
+}
+
+}  // namespace rtcore

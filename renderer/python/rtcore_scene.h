@@ -1,0 +1,64 @@
+// rtcore.Scene: a loaded scene with its BVH. Loading, properties, ray queries
+// and exports are in rtcore_scene.cpp; rendering in rtcore_render.cpp; the
+// Python names and docstrings in rtcore.cpp. Heavy calls release the GIL.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+
+#include "accel.h"
+#include "scene.h"
+
+namespace rtcore {
+
+namespace nb = nanobind;
+
+using Points = nb::ndarray<const float, nb::shape<-1, 3>, nb::c_contig, nb::device::cpu>;
+
+class PyScene {
+  public:
+    static PyScene* load(const std::string& path, unsigned threads);
+    static PyScene* from_bytes(const nb::bytes& data, const std::string& name, unsigned threads);
+
+    size_t triangle_count() const { return scene_->triangles.size(); }
+    size_t sphere_count() const { return scene_->spheres.size(); }
+    size_t degenerate_triangles() const { return scene_->degenerate_triangles; }
+    const std::vector<std::string>& warnings() const { return scene_->warnings; }
+    std::pair<std::vector<float>, std::vector<float>> bounds() const;
+    std::vector<std::pair<std::string, nb::bytes>> cameras() const;
+    nb::bytes default_camera() const;
+    nb::list lights() const;
+    nb::dict bvh_stats() const;
+
+    // The scene as GLB bytes (glb_export.h).
+    nb::bytes to_glb() const;
+
+    // The colour array, or with `aux` (a list of names or rt.AuxOutput values)
+    // a dict of the colour, the layers asked for and the rays traced.
+    nb::object render_tile(nb::handle camera, nb::handle settings, uint32_t x, uint32_t y, uint32_t width,
+                           uint32_t height, nb::handle aux, uint32_t scale) const;
+    nb::ndarray<nb::numpy, float> render(nb::handle camera, nb::handle settings, unsigned threads,
+                                         uint32_t tile_size) const;
+    nb::bytes debug_path(nb::handle camera, nb::handle settings, uint32_t x, uint32_t y) const;
+
+    nb::tuple intersect(const Points& origins, const Points& directions, nb::handle t_max, unsigned threads) const;
+    nb::ndarray<nb::numpy, bool> occluded(const Points& origins, const Points& directions, nb::handle t_max,
+                                          unsigned threads) const;
+    nb::bytes bvh_boxes(int level) const;
+
+  private:
+    PyScene(rt::Scene scene, unsigned threads)
+        : scene_(std::make_unique<rt::Scene>(std::move(scene))),
+          accel_(std::make_unique<rt::Accelerator>(*scene_, threads)) {}
+
+    std::unique_ptr<rt::Scene> scene_;
+    std::unique_ptr<rt::Accelerator> accel_;
+};
+
+}  // namespace rtcore

@@ -1,0 +1,114 @@
+"""/api/jobs: submit, list, show, cancel, the finished images, and the live tile
+stream over WebSocket."""
+
+from __future__ import annotations
+
+import asyncio
+
+import numpy as np
+from fastapi import APIRouter, Depends, HTTPException, Query, Request, WebSocket, WebSocketDisconnect
+from fastapi.responses import FileResponse
+from PIL import Image
+from rt import job_pb2
+
+from ...core.proto import json_body, json_response, parse
+from ...services.job_image import AUX_CHANNELS
+from ...services.jobs import FINAL_STATES, JobError, JobManager, final_image_stream
+from ..deps import jobs, proto_json
+
+router = APIRouter(prefix="/api/jobs", tags=["jobs"])
+
+IMAGE_NAMES = ("image",) + tuple(AUX_CHANNELS)
+
+
+def job_or_404(manager: JobManager, job_id: str) -> job_pb2.Job:
+    job = manager.get(job_id)
+    if job is None:
+        raise HTTPException(404, f"no job with id '{job_id}'")
+    return job
+
+
+@router.post("", status_code=202, openapi_extra=json_body(job_pb2.JobRequest),
+             responses={202: json_response(job_pb2.Job, "The queued job; Location is its address")})
+async def submit_job(request: Request, manager: JobManager = Depends(jobs)):
+    try:
+        body = parse(job_pb2.JobRequest, await request.body())
+        job, stored = await asyncio.to_thread(manager.prepare, body)
+    except JobError as e:
+        raise HTTPException(e.status, str(e)) from None
+    except ValueError as e:
+        raise HTTPException(422, str(e)) from None
+    manager.start(job, stored)
+    return proto_json(job, 202, {"Location": f"/api/jobs/{job.id}"})
+
+
+@router.get("", responses={200: json_response(job_pb2.JobList, "Jobs, newest first")})
+def list_jobs(offset: int = Query(0, ge=0), limit: int = Query(20, ge=1, le=200),
+              manager: JobManager = Depends(jobs)):
+    page, total = manager.page(offset, limit)
+    return proto_json(job_pb2.JobList(jobs=page, total=total, offset=offset))
+
+
+@router.get("/{job_id}", responses={200: json_response(job_pb2.Job, "The job")})
+def get_job(job_id: str, manager: JobManager = Depends(jobs)):
+    return proto_json(job_or_404(manager, job_id))
+
+
+@router.delete("/{job_id}", responses={200: json_response(job_pb2.Job, "The job, cancelled (or as it ended)")})
+async def cancel_job(job_id: str, manager: JobManager = Depends(jobs)):
+    job_or_404(manager, job_id)
+    return proto_json(await manager.cancel(job_id))
+
+
+def _image_file(manager: JobManager, job_id: str, name: str, suffix: str):
+    job = job_or_404(manager, job_id)
+    if job.state != job_pb2.DONE:
+        raise HTTPException(409, f"job '{job_id}' is {job_pb2.JobState.Name(job.state).lower()}: "
+                                 "its image exists once it is done")
+    path = manager.folder(job_id) / f"{name}{suffix}"
+    if not path.is_file():
+        raise HTTPException(404, f"job '{job_id}' has no {name} output (ask for it in the request's outputs)")
+    return path
+
+
+@router.get("/{job_id}/image.exr", response_class=FileResponse,
+            responses={200: {"content": {"image/x-exr": {}}, "description": "Linear colour and auxiliary layers"}})
+def job_exr(job_id: str, manager: JobManager = Depends(jobs)):
+    return FileResponse(_image_file(manager, job_id, "image", ".exr"), media_type="image/x-exr",
+                        filename=f"{job_id}.exr")
+
+
+@router.get("/{job_id}/{name}.png", response_class=FileResponse,
+            responses={200: {"content": {"image/png": {}}, "description": "sRGB colour, or an auxiliary layer"}})
+def job_png(job_id: str, name: str, manager: JobManager = Depends(jobs)):
+    if name not in IMAGE_NAMES:
+        raise HTTPException(404, f"no image named '{name}.png' (one of: {', '.join(IMAGE_NAMES)})")
+    return FileResponse(_image_file(manager, job_id, name, ".png"), media_type="image/png")
+
+
+@router.websocket("/{job_id}/tiles")
+async def tile_stream(websocket: WebSocket, job_id: str):
+    """Binary rt.TileStreamMessage frames: every tile so far, then live ones,
+    then the final job record; the server closes the socket after it."""
+    manager: JobManager = websocket.app.state.jobs
+    await websocket.accept()
+    job = manager.get(job_id)
+    if job is None:
+        await websocket.close(code=4404, reason=f"no job with id '{job_id}'")
+        return
+    try:
+        stream = manager.stream(job_id)
+        if stream is not None:
+            async for message in stream.follow():
+                await websocket.send_bytes(message)
+        else:
+            rgba = None
+            png = manager.folder(job_id) / "image.png"
+            if job.state in FINAL_STATES and png.is_file():
+                rgba = await asyncio.to_thread(lambda: np.asarray(Image.open(png).convert("RGBA")))
+            for message in final_image_stream(job, rgba):
+                await websocket.send_bytes(message)
+        await websocket.close()
+    except WebSocketDisconnect:
+        pass
+

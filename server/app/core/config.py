@@ -1,0 +1,62 @@
+"""Settings of the job service, read once from the environment."""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+REPO_ROOT = Path(__file__).resolve().parents[3]
+
+
+def _int(name: str, default: int) -> int:
+    value = os.environ.get(name)
+    if value is None or value == "":
+        return default
+    try:
+        return int(value)
+    except ValueError:
+        raise SystemExit(f"{name}={value!r}: expected an integer") from None
+
+
+@dataclass(frozen=True)
+class Settings:
+    host: str = field(default_factory=lambda: os.environ.get("HOST", "127.0.0.1"))
+    port: int = field(default_factory=lambda: _int("PORT", 8000))
+    # Scenes, job records (SQLite) and finished images live here.
+    data_dir: Path = field(default_factory=lambda: Path(os.environ.get("RT_DATA_DIR", REPO_ROOT / "data")).resolve())
+    # A Dask scheduler address (tcp://host:8786); empty: an embedded local cluster.
+    scheduler: str = field(default_factory=lambda: os.environ.get("RT_SCHEDULER", ""))
+    # The embedded cluster: worker threads run in the server process and share
+    # its scene cache; rendering releases the GIL.
+    embedded_threads: int = field(default_factory=lambda: _int("RT_THREADS", os.cpu_count() or 1))
+    # The built viewer (web/dist), served at /.
+    web_dir: Path = field(default_factory=lambda: Path(os.environ.get("RT_WEB_DIR", REPO_ROOT / "web" / "dist")))
+    # Sample scenes (make samples) added to the store at start-up when missing.
+    samples_dir: Path | None = field(default_factory=lambda: Path(os.environ["RT_SAMPLES_DIR"])
+                                     if os.environ.get("RT_SAMPLES_DIR") else None)
+    # Upload limits.
+    max_upload_bytes: int = field(default_factory=lambda: _int("RT_MAX_UPLOAD_MB", 512) << 20)
+    max_unpacked_bytes: int = field(default_factory=lambda: _int("RT_MAX_UNPACKED_MB", 2048) << 20)
+    max_upload_files: int = field(default_factory=lambda: _int("RT_MAX_UPLOAD_FILES", 2000))
+    # Pixels of one job (the schema caps width and height separately).
+    max_job_pixels: int = field(default_factory=lambda: _int("RT_MAX_JOB_PIXELS", 64 << 20))
+    # Finished tile streams kept in memory for late viewers; older jobs are
+    # streamed from their image on disk.
+    kept_streams: int = field(default_factory=lambda: _int("RT_KEPT_STREAMS", 8))
+
+    @property
+    def scenes_dir(self) -> Path:
+        return self.data_dir / "scenes"
+
+    @property
+    def jobs_dir(self) -> Path:
+        return self.data_dir / "jobs"
+
+    @property
+    def database(self) -> Path:
+        return self.data_dir / "jobs.sqlite"
+
+
+def load_settings() -> Settings:
+    return Settings()

@@ -1,0 +1,132 @@
+"""The proto/ schema on the Python side: request bodies in, JSON out, and the
+OpenAPI schemas /docs shows, all from the generated code.
+
+Request bodies are validated by rtcore (C++), the same code the CLI and the
+workers use, so every side fills the same defaults and refuses the same values.
+"""
+
+from __future__ import annotations
+
+from typing import Any, TypeVar
+
+import rtcore
+from google.protobuf import descriptor as _descriptor
+from google.protobuf.json_format import MessageToDict
+from google.protobuf.message import Message
+from rt import debug_pb2, job_pb2, options_pb2, render_pb2, scene_pb2
+
+M = TypeVar("M", bound=Message)
+
+FILES = (render_pb2, scene_pb2, debug_pb2, job_pb2)
+
+
+def parse(message_type: type[M], body: bytes | str, path: str = "body") -> M:
+    """The JSON form of a message, checked against the schema's limits and with
+    its defaults filled in. Raises ValueError naming the field."""
+    text = body.decode("utf-8", errors="strict") if isinstance(body, bytes) else body
+    if not text.strip():
+        raise ValueError(f"{path}: expected a JSON object, got an empty body")
+    data = rtcore.parse_message(message_type.DESCRIPTOR.full_name, text, path)
+    return message_type.FromString(data)
+
+
+def fill_absent(message: Message, *fields: str) -> None:
+    """Gives absent sub-messages their schema defaults (the limits only fill
+    fields of messages that are present)."""
+    for name in fields:
+        if not message.HasField(name):
+            getattr(message, name).CopyFrom(parse(type(getattr(message, name)), "{}", name))
+
+
+def complete(message: M, path: str) -> M:
+    """A message built in Python (or read back from storage), checked and with
+    its defaults filled in by the same code as parse()."""
+    data = rtcore.parse_message(message.DESCRIPTOR.full_name, to_json_text(message), path)
+    return type(message).FromString(data)
+
+
+def to_dict(message: Message) -> dict[str, Any]:
+    """The JSON form we answer with: proto field names, every field present."""
+    return MessageToDict(message, preserving_proto_field_name=True, including_default_value_fields=True)
+
+
+def to_json_text(message: Message) -> str:
+    import json
+
+    return json.dumps(MessageToDict(message, preserving_proto_field_name=True))
+
+
+# --- OpenAPI -----------------------------------------------------------------
+
+_SCALARS = {
+    _descriptor.FieldDescriptor.TYPE_DOUBLE: {"type": "number"},
+    _descriptor.FieldDescriptor.TYPE_FLOAT: {"type": "number"},
+    _descriptor.FieldDescriptor.TYPE_INT32: {"type": "integer"},
+    _descriptor.FieldDescriptor.TYPE_UINT32: {"type": "integer", "minimum": 0},
+    _descriptor.FieldDescriptor.TYPE_SINT32: {"type": "integer"},
+    # The proto JSON form writes 64-bit integers as strings.
+    _descriptor.FieldDescriptor.TYPE_INT64: {"type": ["integer", "string"]},
+    _descriptor.FieldDescriptor.TYPE_UINT64: {"type": ["integer", "string"]},
+    _descriptor.FieldDescriptor.TYPE_BOOL: {"type": "boolean"},
+    _descriptor.FieldDescriptor.TYPE_STRING: {"type": "string"},
+    _descriptor.FieldDescriptor.TYPE_BYTES: {"type": "string", "contentEncoding": "base64"},
+}
+
+
+def schema_ref(message_type: type[Message] | _descriptor.Descriptor) -> dict[str, str]:
+    descriptor = getattr(message_type, "DESCRIPTOR", message_type)
+    return {"$ref": f"#/components/schemas/{descriptor.full_name}"}
+
+
+def _field_schema(field: _descriptor.FieldDescriptor) -> tuple[dict[str, Any], bool]:
+    limits = field.GetOptions().Extensions[options_pb2.limits]
+    if field.type == field.TYPE_MESSAGE:
+        item: dict[str, Any] = schema_ref(field.message_type)
+    elif field.type == field.TYPE_ENUM:
+        item = {"type": "string", "enum": [v.name for v in field.enum_type.values]}
+    else:
+        item = dict(_SCALARS[field.type])
+        if limits.HasField("min"):
+            item["minimum"] = limits.min
+        if limits.HasField("max"):
+            item["maximum"] = limits.max
+    if field.label == field.LABEL_REPEATED:
+        schema: dict[str, Any] = {"type": "array", "items": item}
+        if limits.count:
+            schema["minItems"] = schema["maxItems"] = limits.count
+    else:
+        schema = item
+        if limits.HasField("default"):
+            schema = {**schema, "default": limits.default}
+    return schema, limits.required
+
+
+def _message_schema(descriptor: _descriptor.Descriptor) -> dict[str, Any]:
+    properties, required = {}, []
+    for field in descriptor.fields:
+        properties[field.name], is_required = _field_schema(field)
+        if is_required:
+            required.append(field.name)
+    schema: dict[str, Any] = {"type": "object", "title": descriptor.name, "properties": properties,
+                              "additionalProperties": False}
+    if required:
+        schema["required"] = required
+    return schema
+
+
+def openapi_components() -> dict[str, Any]:
+    """A JSON schema for every message of the rt package."""
+    schemas = {}
+    for module in FILES:
+        for descriptor in module.DESCRIPTOR.message_types_by_name.values():
+            schemas[descriptor.full_name] = _message_schema(descriptor)
+    return schemas
+
+
+def json_body(message_type: type[Message]) -> dict[str, Any]:
+    """openapi_extra for a route that reads the JSON form of `message_type`."""
+    return {"requestBody": {"required": True, "content": {"application/json": {"schema": schema_ref(message_type)}}}}
+
+
+def json_response(message_type: type[Message], description: str) -> dict[str, Any]:
+    return {"description": description, "content": {"application/json": {"schema": schema_ref(message_type)}}}

@@ -1,0 +1,96 @@
+"""The rt job service: REST and WebSocket API, tiles on Dask, the viewer at /."""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+from contextlib import asynccontextmanager
+
+from fastapi import FastAPI, Request
+from fastapi.exceptions import RequestValidationError
+from fastapi.openapi.utils import get_openapi
+from fastapi.responses import FileResponse, JSONResponse
+from fastapi.staticfiles import StaticFiles
+
+from .api.routes import health, jobs, scenes
+from .core.config import Settings, load_settings
+from .core.proto import openapi_components
+from .services.cluster import RenderCluster
+from .services.job_store import JobStore
+from .services.jobs import JobManager
+from .services.scene_store import SceneStore
+
+log = logging.getLogger("rt")
+
+
+def create_app(settings: Settings | None = None) -> FastAPI:
+    settings = settings or load_settings()
+
+    @asynccontextmanager
+    async def lifespan(app: FastAPI):
+        settings.data_dir.mkdir(parents=True, exist_ok=True)
+        app.state.settings = settings
+        app.state.scenes = SceneStore(settings)
+        if settings.samples_dir and settings.samples_dir.is_dir():
+            added = await asyncio.to_thread(app.state.scenes.import_samples, settings.samples_dir)
+            log.info("added %d sample scenes from %s", added, settings.samples_dir)
+        app.state.cluster = await RenderCluster.start(settings)
+        app.state.jobs = JobManager(settings, app.state.cluster, app.state.scenes, JobStore(settings.database))
+        await app.state.jobs.resume()
+        try:
+            yield
+        finally:
+            await app.state.jobs.shutdown()
+            await app.state.cluster.close()
+
+    app = FastAPI(title="rt", summary="Ray tracing render service", lifespan=lifespan)
+    for router in (health.router, scenes.router, jobs.router):
+        app.include_router(router)
+
+    @app.middleware("http")
+    async def refuse_oversized_uploads(request: Request, call_next):
+        # The multipart parser would spool the whole body before the route can count it.
+        length = request.headers.get("content-length")
+        if request.method == "POST" and request.url.path == "/api/scenes" and length and length.isdigit() \
+                and int(length) > settings.max_upload_bytes + (1 << 20):
+            return JSONResponse({"detail": f"upload of {int(length)} bytes is over this server's limit of "
+                                           f"{settings.max_upload_bytes} bytes"}, status_code=413)
+        return await call_next(request)
+
+    @app.exception_handler(RequestValidationError)
+    async def validation_error(request: Request, exc: RequestValidationError):
+        problems = "; ".join(f"{'.'.join(str(p) for p in e['loc'])}: {e['msg']}" for e in exc.errors())
+        return JSONResponse({"detail": problems}, status_code=422)
+
+    def openapi():
+        if app.openapi_schema is None:
+            schema = get_openapi(title=app.title, version="1", summary=app.summary, routes=app.routes)
+            schema.setdefault("components", {}).setdefault("schemas", {}).update(openapi_components())
+            app.openapi_schema = schema
+        return app.openapi_schema
+
+    app.openapi = openapi
+    _serve_viewer(app, settings)
+    return app
+
+
+def _serve_viewer(app: FastAPI, settings: Settings) -> None:
+    """The built viewer at /; its client-side routes (/jobs/<id>) get index.html."""
+    index = settings.web_dir / "index.html"
+    if not index.is_file():
+        log.warning("no viewer at %s (build it with `make web`)", settings.web_dir)
+        return
+    if (settings.web_dir / "assets").is_dir():
+        app.mount("/assets", StaticFiles(directory=settings.web_dir / "assets"), name="assets")
+
+    @app.get("/{path:path}", include_in_schema=False)
+    def viewer(path: str):
+        file = (settings.web_dir / path).resolve()
+        if path and file.is_file() and settings.web_dir.resolve() in file.parents:
+            return FileResponse(file)
+        if path.startswith("api/"):
+            return JSONResponse({"detail": f"no route /{path}"}, status_code=404)
+        return FileResponse(index)
+
+
+app = create_app()

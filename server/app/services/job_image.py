@@ -1,0 +1,91 @@
+"""A job's image while tiles arrive, and the files it leaves when done.
+
+Colour and auxiliary layers are assembled in linear float from the
+full-resolution tiles; preview tiles only travel to viewers. Tiles and
+image.png are encoded to sRGB by the same function (the renderer's own), so a
+viewer that paints every tile holds exactly image.png.
+"""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+
+import numpy as np
+import rtcore
+from PIL import Image
+
+from .tile_plan import TileSpec
+
+# Channels of each auxiliary layer, as rtcore.render_tile returns them.
+AUX_CHANNELS = {"depth": 1, "normal": 3, "albedo": 3, "bvh_cost": 2}
+
+
+def rgba8(color: np.ndarray) -> np.ndarray:
+    """Linear RGB floats (h, w, 3) as 8-bit sRGB RGBA, the stream's pixel format."""
+    return rtcore.encode_srgb8(np.ascontiguousarray(color, dtype=np.float32))
+
+
+def png_bytes(rgba: np.ndarray) -> bytes:
+    out = io.BytesIO()
+    Image.fromarray(rgba, "RGBA").save(out, format="PNG")
+    return out.getvalue()
+
+
+def _heat(values: np.ndarray) -> np.ndarray:
+    """A perceptual-ish heat ramp (black, purple, orange, yellow, white) over [0, 1]."""
+    stops = np.array([[0, 0, 0], [80, 18, 123], [230, 80, 40], [252, 200, 40], [255, 255, 255]], np.float32)
+    x = np.clip(values, 0, 1) * (len(stops) - 1)
+    i = np.minimum(x.astype(int), len(stops) - 2)
+    f = (x - i)[..., None]
+    return (stops[i] * (1 - f) + stops[i + 1] * f + 0.5).astype(np.uint8)
+
+
+def aux_preview(name: str, layer: np.ndarray) -> np.ndarray:
+    """An auxiliary layer as an RGBA8 picture: depth near-bright, normals as
+    colour, albedo in sRGB, BVH cost (nodes visited) as a heat map."""
+    h, w = layer.shape[:2]
+    if name == "depth":
+        d = layer.reshape(h, w)
+        hit = d > 0
+        far = float(d[hit].max()) if hit.any() else 1.0
+        near = float(d[hit].min()) if hit.any() else 0.0
+        gray = np.where(hit, 1.0 - 0.85 * (d - near) / max(far - near, 1e-12), 0.0)
+        rgb = np.repeat(gray[..., None], 3, axis=2).astype(np.float32) ** 2.2
+        return rgba8(rgb)
+    if name == "normal":
+        return rgba8(((layer * 0.5 + 0.5) * (np.linalg.norm(layer, axis=2, keepdims=True) > 0)) ** 2.2)
+    if name == "albedo":
+        return rgba8(layer)
+    nodes = layer.reshape(h, w, -1)[..., 0].astype(np.float32)
+    top = float(np.percentile(nodes, 99.5)) if nodes.size else 1.0
+    rgb = _heat(nodes / max(top, 1.0))
+    return np.concatenate([rgb, np.full((h, w, 1), 255, np.uint8)], axis=2)
+
+
+class JobImage:
+    def __init__(self, width: int, height: int, aux: list[str]):
+        self.width, self.height = width, height
+        self.color = np.zeros((height, width, 3), np.float32)
+        self.aux = {name: np.zeros((height, width, AUX_CHANNELS[name]), np.float32) for name in aux}
+
+    def add(self, spec: TileSpec, layers: dict[str, np.ndarray]) -> bytes:
+        """Takes a finished tile; answers its RGBA8 pixels for the stream."""
+        color = layers["color"]
+        if spec.scale == 1:
+            self.color[spec.y:spec.y + spec.h, spec.x:spec.x + spec.w] = color
+            for name, target in self.aux.items():
+                target[spec.y:spec.y + spec.h, spec.x:spec.x + spec.w] = layers[name].reshape(spec.h, spec.w, -1)
+        return rgba8(color).tobytes()
+
+    def write(self, folder: Path) -> None:
+        """image.exr (colour and every auxiliary layer, linear), image.png, and
+        one PNG per auxiliary layer; each written whole, then renamed."""
+        folder.mkdir(parents=True, exist_ok=True)
+        partial = folder / "image.part.exr"
+        rtcore.write_exr(str(partial), self.color, {k: v for k, v in self.aux.items()})
+        partial.replace(folder / "image.exr")
+        for name, rgba in [("image", rgba8(self.color))] + [(n, aux_preview(n, v)) for n, v in self.aux.items()]:
+            part = folder / f"{name}.part.png"
+            part.write_bytes(png_bytes(rgba))
+            part.replace(folder / f"{name}.png")

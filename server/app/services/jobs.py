@@ -1,0 +1,237 @@
+"""Render jobs: from a request to Dask tile tasks, and from their results to the
+job record, the tile stream and the finished images.
+
+Each tile is one Dask task (tile_tasks.render_tile). The server keeps the job's
+record, assembles the image as results come back, and persists the record so a
+restart can pick the job up again from the start.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import secrets
+import shutil
+import time
+from collections import OrderedDict
+from dataclasses import dataclass, field
+
+from distributed import as_completed
+from rt import job_pb2
+
+from ..core.config import Settings
+from ..core.proto import complete, fill_absent
+from .cluster import RenderCluster
+from .job_image import JobImage
+from .job_store import JobStore
+from .scene_store import SceneStore, StoredScene
+from .streams import TileStream
+from .tile_plan import TileSpec, plan_passes
+from .tile_tasks import aux_names, render_tile
+
+log = logging.getLogger("rt.jobs")
+
+PERSIST_EVERY_SECONDS = 0.5
+FINAL_STATES = (job_pb2.DONE, job_pb2.FAILED, job_pb2.CANCELLED)
+
+
+class JobError(ValueError):
+    """A request the service cannot run; `status` is the HTTP status to answer."""
+
+    def __init__(self, message: str, status: int):
+        super().__init__(message)
+        self.status = status
+
+
+@dataclass
+class RunningJob:
+    record: job_pb2.Job
+    scene: StoredScene
+    stream: TileStream = field(default_factory=TileStream)
+    task: asyncio.Task | None = None
+
+
+class JobManager:
+    def __init__(self, settings: Settings, cluster: RenderCluster, scenes: SceneStore, store: JobStore):
+        self._settings = settings
+        self._cluster = cluster
+        self._scenes = scenes
+        self._store = store
+        self._running: dict[str, RunningJob] = {}
+        self._finished_streams: OrderedDict[str, TileStream] = OrderedDict()
+
+    # --- requests -----------------------------------------------------------
+
+    def validate(self, request: job_pb2.JobRequest) -> StoredScene:
+        """Fills the camera from the scene when absent, and tries the request on
+        one pixel so the renderer's own checks (camera, settings) answer now
+        rather than inside a worker. Raises JobError."""
+        stored = self._scenes.get(request.scene_id)
+        if stored is None:
+            raise JobError(f"scene_id: no scene with id '{request.scene_id}'", 404)
+        if not request.HasField("camera"):
+            request.camera.CopyFrom(stored.info.default_camera)
+        fill_absent(request, "settings")
+        pixels = request.settings.width * request.settings.height
+        if pixels > self._settings.max_job_pixels:
+            raise JobError(f"settings: {request.settings.width}x{request.settings.height} is {pixels} pixels, "
+                           f"above this server's limit of {self._settings.max_job_pixels}", 422)
+        try:
+            stored.load().render_tile(request.camera.SerializeToString(), request.settings.SerializeToString(),
+                                      0, 0, 1, 1)
+        except ValueError as e:
+            raise JobError(str(e), 422) from None
+        return stored
+
+    def prepare(self, request: job_pb2.JobRequest) -> tuple[job_pb2.Job, StoredScene]:
+        """A queued job record for a valid request, saved; blocking (run it off
+        the event loop). Raises JobError or ValueError naming the problem."""
+        stored = self.validate(request)
+        job = job_pb2.Job(id=secrets.token_hex(8), state=job_pb2.QUEUED, created_at=time.time())
+        job.request.CopyFrom(complete(request, "body"))
+        self._store.save(job)
+        return job, stored
+
+    def start(self, job: job_pb2.Job, stored: StoredScene) -> None:
+        running = RunningJob(job, stored)
+        self._running[job.id] = running
+        running.task = asyncio.create_task(self._run(running), name=f"job-{job.id}")
+
+    def get(self, job_id: str) -> job_pb2.Job | None:
+        running = self._running.get(job_id)
+        return running.record if running else self._store.get(job_id)
+
+    def page(self, offset: int, limit: int) -> tuple[list[job_pb2.Job], int]:
+        jobs, total = self._store.page(offset, limit)
+        return [self._running[j.id].record if j.id in self._running else j for j in jobs], total
+
+    async def cancel(self, job_id: str, reason: str = "cancelled by request") -> job_pb2.Job | None:
+        running = self._running.get(job_id)
+        if running is None:
+            return self._store.get(job_id)
+        running.record.error = reason
+        if running.task is not None:
+            running.task.cancel()
+            await asyncio.gather(running.task, return_exceptions=True)
+        return running.record
+
+    async def cancel_scene(self, scene_id: str) -> None:
+        for job_id in [j for j, r in self._running.items() if r.record.request.scene_id == scene_id]:
+            await self.cancel(job_id, "the scene was deleted")
+
+    def stream(self, job_id: str) -> TileStream | None:
+        running = self._running.get(job_id)
+        if running is not None:
+            return running.stream
+        return self._finished_streams.get(job_id)
+
+    def folder(self, job_id: str):
+        return self._settings.jobs_dir / job_id
+
+    # --- lifecycle ----------------------------------------------------------
+
+    async def resume(self) -> None:
+        """Jobs that were queued or running when the server stopped start again;
+        those whose scene is gone fail with the reason."""
+        for job in self._store.active():
+            stored = self._scenes.get(job.request.scene_id)
+            if stored is None:
+                self._end(job, job_pb2.FAILED, "the server restarted and the job's scene is gone")
+                continue
+            log.info("resuming job %s", job.id)
+            fresh = job_pb2.Job(id=job.id, state=job_pb2.QUEUED, created_at=job.created_at)
+            fresh.request.CopyFrom(job.request)
+            self._store.save(fresh)
+            self.start(fresh, stored)
+
+    async def shutdown(self) -> None:
+        """Leaves running jobs as they are in the store, to be resumed."""
+        for running in list(self._running.values()):
+            if running.task is not None:
+                running.task.cancel("shutdown")
+        await asyncio.gather(*(r.task for r in self._running.values() if r.task), return_exceptions=True)
+
+    def _end(self, job: job_pb2.Job, state: int, error: str = "") -> None:
+        job.state = state
+        if error and not job.error:
+            job.error = error
+        job.finished_at = time.time()
+        self._store.save(job)
+
+    # --- running ------------------------------------------------------------
+
+    async def _run(self, running: RunningJob) -> None:
+        job = running.record
+        request = job.request
+        client = self._cluster.client
+        passes = plan_passes(request.settings.width, request.settings.height, self._cluster.total_threads(),
+                             request.interactive)
+        specs = [spec for tiles in passes for spec in tiles]
+        job.passes = len(passes)
+        job.tiles_total = len(specs)
+        total_samples = sum(s.samples for s in specs)
+        image = JobImage(request.settings.width, request.settings.height, aux_names(request))
+        request_bytes = request.SerializeToString()
+        run = secrets.token_hex(3)
+        futures: dict[str, TileSpec] = {}
+        submitted = []
+        for spec in specs:
+            future = client.submit(render_tile, running.scene.sha256, str(running.scene.scene_file), request_bytes,
+                                   spec.x, spec.y, spec.w, spec.h, spec.scale, priority=spec.priority, pure=False,
+                                   key=f"tile-{job.id}-{run}-{spec.pass_index}-{spec.x}-{spec.y}")
+            futures[future.key] = spec
+            submitted.append(future)
+        samples_done = 0
+        last_saved = 0.0
+        shutdown = False
+        try:
+            async for future in as_completed(submitted):
+                spec = futures[future.key]
+                result = await future
+                if job.state == job_pb2.QUEUED:
+                    job.state = job_pb2.RUNNING
+                    job.started_at = result["started"]
+                pixels = image.add(spec, result["layers"])
+                await running.stream.publish(job_pb2.Tile(job=job.id, **{"pass": spec.pass_index}, x=spec.x,
+                                                          y=spec.y, w=spec.w, h=spec.h, scale=spec.scale,
+                                                          pixels=pixels))
+                job.tiles_done += 1
+                samples_done += spec.samples
+                job.progress = samples_done / total_samples
+                job.render_seconds += result["seconds"]
+                job.rays += result["rays"]
+                if time.monotonic() - last_saved > PERSIST_EVERY_SECONDS:
+                    self._store.save(job)
+                    last_saved = time.monotonic()
+            await asyncio.to_thread(image.write, self.folder(job.id))
+            self._end(job, job_pb2.DONE)
+        except asyncio.CancelledError as e:
+            await client.cancel(submitted)
+            shutdown = "shutdown" in e.args
+            if not shutdown:
+                shutil.rmtree(self.folder(job.id), ignore_errors=True)
+                self._end(job, job_pb2.CANCELLED, "cancelled by request")
+        except Exception as e:  # a tile failed: the job fails with the tile's reason
+            log.exception("job %s failed", job.id)
+            await client.cancel(submitted)
+            self._end(job, job_pb2.FAILED, f"{type(e).__name__}: {e}")
+        finally:
+            self._running.pop(job.id, None)
+            if not shutdown:
+                await running.stream.finish(job)
+                self._finished_streams[job.id] = running.stream
+                while len(self._finished_streams) > self._settings.kept_streams:
+                    self._finished_streams.popitem(last=False)
+
+
+def final_image_stream(job: job_pb2.Job, rgba) -> list[bytes]:
+    """The stream of a finished job no longer held in memory: the whole image
+    as one tile, then the record."""
+    messages = []
+    if rgba is not None:
+        h, w = rgba.shape[:2]
+        tile = job_pb2.Tile(job=job.id, **{"pass": max(job.passes, 1) - 1}, x=0, y=0, w=w, h=h, scale=1,
+                            pixels=rgba.tobytes())
+        messages.append(job_pb2.TileStreamMessage(tile=tile).SerializeToString())
+    messages.append(job_pb2.TileStreamMessage(end=job).SerializeToString())
+    return messages

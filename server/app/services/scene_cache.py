@@ -1,0 +1,72 @@
+"""Loaded scenes, one per process, keyed by the upload's content hash.
+
+Loading a scene and building its BVH costs far more than rendering a tile, so
+every worker keeps the scenes it has loaded. When memory runs short the least
+recently used scenes go first; a scene in use stays alive through its callers'
+references even after eviction.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections import OrderedDict
+from pathlib import Path
+
+import psutil
+import rtcore
+
+# Keep at least this share of the machine's memory free; evict beyond it.
+MIN_AVAILABLE_FRACTION = 0.15
+MAX_SCENES = 16
+
+_lock = threading.Lock()
+_scenes: OrderedDict[str, rtcore.Scene] = OrderedDict()
+_loading: dict[str, threading.Lock] = {}
+
+
+def _memory_short() -> bool:
+    memory = psutil.virtual_memory()
+    return memory.available < MIN_AVAILABLE_FRACTION * memory.total
+
+
+def _evict_while_needed(keep: str) -> None:
+    with _lock:
+        while _scenes and (len(_scenes) > MAX_SCENES or _memory_short()):
+            oldest = next(iter(_scenes))
+            if oldest == keep:
+                if len(_scenes) == 1:
+                    return
+                _scenes.move_to_end(oldest)
+                continue
+            del _scenes[oldest]
+
+
+def get_scene(content_hash: str, path: str | Path) -> rtcore.Scene:
+    """The scene stored at `path` whose upload hashed to `content_hash`, loaded
+    once per process even when many threads ask at the same time."""
+    with _lock:
+        scene = _scenes.get(content_hash)
+        if scene is not None:
+            _scenes.move_to_end(content_hash)
+            return scene
+        loading = _loading.setdefault(content_hash, threading.Lock())
+    with loading:
+        with _lock:
+            scene = _scenes.get(content_hash)
+        if scene is None:
+            scene = rtcore.Scene.load(str(path))
+            with _lock:
+                _scenes[content_hash] = scene
+                _loading.pop(content_hash, None)
+            _evict_while_needed(keep=content_hash)
+    return scene
+
+
+def forget(content_hash: str) -> None:
+    with _lock:
+        _scenes.pop(content_hash, None)
+
+
+def cached_hashes() -> list[str]:
+    with _lock:
+        return list(_scenes)

@@ -1,0 +1,154 @@
+"""Uploaded scenes on disk: RT_DATA_DIR/scenes/<id>/ holds the upload's files,
+`scene.json` (the rt.SceneInfo answered to clients) and `stored.json` (where
+the scene file is and its content hash, for the workers).
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import secrets
+import shutil
+import threading
+import time
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+from typing import BinaryIO
+
+import rtcore
+from google.protobuf.json_format import Parse
+from rt import job_pb2, render_pb2
+
+from ..core.config import Settings
+from ..core.proto import to_json_text
+from . import scene_cache
+from .uploads import StoredUpload, UploadError, store_upload
+
+
+@dataclass(frozen=True)
+class StoredScene:
+    info: job_pb2.SceneInfo
+    scene_file: Path
+    sha256: str
+
+    def load(self) -> rtcore.Scene:
+        return scene_cache.get_scene(self.sha256, self.scene_file)
+
+
+def _scene_info(scene_id: str, name: str, upload: StoredUpload, scene: rtcore.Scene) -> job_pb2.SceneInfo:
+    lo, hi = scene.bounds
+    info = job_pb2.SceneInfo(
+        id=scene_id, name=name, format=upload.format, triangle_count=scene.triangle_count,
+        sphere_count=scene.sphere_count, degenerate_triangles=scene.degenerate_triangles,
+        bounds_min=lo, bounds_max=hi, warnings=scene.warnings, created_at=time.time(),
+        size_bytes=upload.size_bytes)
+    for light in scene.lights:
+        # rtcore gives colour times intensity; the record keeps it as the colour.
+        info.lights.add(position=light["position"], color=light["intensity"], intensity=1.0,
+                        radius=light["radius"])
+    for camera_name, camera in scene.cameras:
+        info.cameras.add(name=camera_name, camera=render_pb2.Camera.FromString(camera))
+    info.default_camera.ParseFromString(scene.default_camera)
+    return info
+
+
+class SceneStore:
+    def __init__(self, settings: Settings):
+        self._settings = settings
+        self._root = settings.scenes_dir
+        self._root.mkdir(parents=True, exist_ok=True)
+        self._lock = threading.Lock()
+        self._scenes: dict[str, StoredScene] = {}
+        for folder in sorted(self._root.iterdir()):
+            stored = self._read(folder)
+            if stored:
+                self._scenes[stored.info.id] = stored
+
+    @staticmethod
+    def _read(folder: Path) -> StoredScene | None:
+        try:
+            info = Parse((folder / "scene.json").read_text(), job_pb2.SceneInfo())
+            stored = json.loads((folder / "stored.json").read_text())
+            return StoredScene(info, folder / stored["scene_file"], stored["sha256"])
+        except (OSError, ValueError, KeyError):
+            # A folder left half-written by a crash during an upload.
+            shutil.rmtree(folder, ignore_errors=True)
+            return None
+
+    def create(self, filename: str, stream: BinaryIO, name: str | None = None) -> StoredScene:
+        """Stores and loads an upload, shown as `name` (default: the file's
+        name). Raises UploadError (bad file) naming the problem."""
+        scene_id = secrets.token_hex(6)
+        folder = self._root / scene_id
+        files = folder / "files"
+        files.mkdir(parents=True)
+        try:
+            upload = store_upload(filename, stream, files, max_bytes=self._settings.max_upload_bytes,
+                                  max_unpacked_bytes=self._settings.max_unpacked_bytes,
+                                  max_files=self._settings.max_upload_files)
+            try:
+                scene = scene_cache.get_scene(upload.sha256, upload.scene_file)
+            except ValueError as e:
+                raise UploadError(f"{Path(filename).name}: {e}", status=400) from None
+            info = _scene_info(scene_id, name or Path(filename).name, upload, scene)
+            (folder / "stored.json").write_text(json.dumps(
+                {"scene_file": str(upload.scene_file.relative_to(folder)), "sha256": upload.sha256}))
+            (folder / "scene.json").write_text(to_json_text(info))
+        except BaseException:
+            shutil.rmtree(folder, ignore_errors=True)
+            raise
+        stored = StoredScene(info, upload.scene_file, upload.sha256)
+        with self._lock:
+            self._scenes[scene_id] = stored
+        return stored
+
+    def import_samples(self, folder: Path) -> int:
+        """Adds the sample scenes (make samples) not stored yet, each through the
+        upload path; OBJ scenes travel with their .mtl and sidecar in a zip."""
+        known = {s.info.name for s in self.all()}
+        added = 0
+        for path in sorted(folder.glob("*.glb")) + sorted(folder.glob("*.obj")):
+            if path.name in known:
+                continue
+            if path.suffix == ".glb":
+                with path.open("rb") as stream:
+                    self.create(path.name, stream)
+            else:
+                bundle = io.BytesIO()
+                with zipfile.ZipFile(bundle, "w") as z:
+                    for part in [path] + [path.with_suffix(s) for s in (".mtl", ".rt.json") if path.with_suffix(s).is_file()]:
+                        z.write(part, part.name)
+                bundle.seek(0)
+                self.create(path.stem + ".zip", bundle, name=path.name)
+            added += 1
+        return added
+
+    def get(self, scene_id: str) -> StoredScene | None:
+        with self._lock:
+            return self._scenes.get(scene_id)
+
+    def all(self) -> list[StoredScene]:
+        """Newest first."""
+        with self._lock:
+            return sorted(self._scenes.values(), key=lambda s: s.info.created_at, reverse=True)
+
+    def delete(self, scene_id: str) -> bool:
+        with self._lock:
+            stored = self._scenes.pop(scene_id, None)
+        if stored is None:
+            return False
+        if not any(s.sha256 == stored.sha256 for s in self.all()):
+            scene_cache.forget(stored.sha256)
+        shutil.rmtree(self._root / scene_id, ignore_errors=True)
+        return True
+
+    def model_glb(self, stored: StoredScene) -> Path:
+        """The scene as the renderer sees it, as one GLB, written once."""
+        path = self._root / stored.info.id / "model.glb"
+        if not path.exists():
+            data = stored.load().to_glb()
+            partial = path.with_suffix(".part")
+            partial.write_bytes(data)
+            partial.replace(path)
+        return path

@@ -1,0 +1,49 @@
+"""The tile stream of one job, as every viewer receives it.
+
+Every finished tile is kept (encoded once) in order, so a viewer that connects
+late first receives the image so far, tile by tile, and then follows live:
+each viewer gets each tile exactly once per pass. The stream ends with the job's
+final record.
+"""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import AsyncIterator
+
+from rt import job_pb2
+
+
+class TileStream:
+    def __init__(self) -> None:
+        self._messages: list[bytes] = []
+        self._end: bytes | None = None
+        self._changed = asyncio.Condition()
+
+    @property
+    def finished(self) -> bool:
+        return self._end is not None
+
+    async def publish(self, tile: job_pb2.Tile) -> None:
+        self._messages.append(job_pb2.TileStreamMessage(tile=tile).SerializeToString())
+        async with self._changed:
+            self._changed.notify_all()
+
+    async def finish(self, job: job_pb2.Job) -> None:
+        self._end = job_pb2.TileStreamMessage(end=job).SerializeToString()
+        async with self._changed:
+            self._changed.notify_all()
+
+    async def follow(self) -> AsyncIterator[bytes]:
+        """Every message from the first, waiting for new ones until the end."""
+        sent = 0
+        while True:
+            while sent < len(self._messages):
+                sent += 1
+                yield self._messages[sent - 1]
+            if self._end is not None:
+                yield self._end
+                return
+            async with self._changed:
+                if sent == len(self._messages) and self._end is None:
+                    await self._changed.wait()

@@ -1,0 +1,41 @@
+"""What a Dask worker runs: one tile of one job.
+
+Workers import this module by name, so it stays small and depends only on
+rtcore and the scene cache. The arguments are plain values (the scene's path
+and content hash, the serialized request) so that any worker that sees the
+shared data folder can run any tile.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import numpy as np
+from rt import job_pb2
+
+from .scene_cache import get_scene
+
+
+def aux_names(request: job_pb2.JobRequest) -> list[str]:
+    return [job_pb2.AuxOutput.Name(o).lower() for o in request.outputs]
+
+
+def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, x: int, y: int, w: int, h: int,
+                scale: int) -> dict[str, Any]:
+    """Renders one tile: its layers as arrays of ceil(h/scale) x ceil(w/scale)
+    samples, the rays traced, and when the worker started and how long it took."""
+    started = time.time()
+    request = job_pb2.JobRequest.FromString(request_bytes)
+    scene = get_scene(scene_hash, scene_path)
+    camera = request.camera.SerializeToString()
+    settings = request.settings.SerializeToString()
+    # With aux given (even empty) rtcore answers a dict that also counts the rays.
+    layers = scene.render_tile(camera, settings, x, y, w, h, scale=scale, aux=aux_names(request))
+    rays = int(layers.pop("rays"))
+    return {
+        "layers": {name: np.asarray(array) for name, array in layers.items()},
+        "rays": rays,
+        "started": started,
+        "seconds": time.time() - started,
+    }

@@ -1,0 +1,9 @@
+"""Settings for a service under test: its own data folder, no viewer."""
+
+from pathlib import Path
+
+from app.core.config import Settings
+
+
+def service_settings(data_dir: Path, **overrides) -> Settings:
+    return Settings(data_dir=data_dir, embedded_threads=2, web_dir=data_dir / "no-viewer", **overrides)

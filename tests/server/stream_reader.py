@@ -1,0 +1,48 @@
+"""Reading a job's tile stream the way the viewer does."""
+
+import time
+
+import numpy as np
+from rt import job_pb2
+
+
+def read_stream(client, job_id: str) -> list[job_pb2.TileStreamMessage]:
+    """Every message of the job's WebSocket until the server closes it."""
+    from starlette.websockets import WebSocketDisconnect
+
+    messages = []
+    with client.websocket_connect(f"/api/jobs/{job_id}/tiles") as ws:
+        try:
+            while True:
+                message = job_pb2.TileStreamMessage.FromString(ws.receive_bytes())
+                messages.append(message)
+                if message.WhichOneof("message") == "end":
+                    break
+        except WebSocketDisconnect:
+            pass
+    return messages
+
+
+def assemble(messages, width: int, height: int) -> np.ndarray:
+    """Paints tiles in arrival order, previews over their blocks, as the viewer does."""
+    canvas = np.zeros((height, width, 4), np.uint8)
+    for message in messages:
+        if message.WhichOneof("message") != "tile":
+            continue
+        t = message.tile
+        s = t.scale
+        samples = np.frombuffer(t.pixels, np.uint8).reshape(-(-t.h // s), -(-t.w // s), 4)
+        block = np.repeat(np.repeat(samples, s, axis=0), s, axis=1)[:t.h, :t.w]
+        canvas[t.y:t.y + t.h, t.x:t.x + t.w] = block
+    return canvas
+
+
+def wait_for(client, job_id: str, timeout: float = 60) -> dict:
+    """The job's record once it has ended."""
+    deadline = time.monotonic() + timeout
+    while True:
+        job = client.get(f"/api/jobs/{job_id}").json()
+        if job["state"] in ("DONE", "FAILED", "CANCELLED"):
+            return job
+        assert time.monotonic() < deadline, f"job {job_id} still {job['state']}"
+        time.sleep(0.05)

@@ -1,0 +1,142 @@
+"""/api/jobs: submit, show, list, cancel, images, and the WebSocket tile stream."""
+
+import io
+import time
+
+import numpy as np
+import pytest
+from PIL import Image
+from rt import job_pb2
+
+from stream_reader import assemble, read_stream, wait_for
+
+
+def submit(client, scene_id, width=96, height=72, **extra):
+    body = {"scene_id": scene_id, "settings": {"width": width, "height": height}, **extra}
+    response = client.post("/api/jobs", json=body)
+    assert response.status_code == 202, response.text
+    return response
+
+
+def test_a_minimal_job_renders_and_its_stream_equals_image_png(client, cornell_id):
+    response = submit(client, cornell_id, 300, 240)
+    job = response.json()
+    assert response.headers["location"] == f"/api/jobs/{job['id']}"
+    assert job["state"] in ("QUEUED", "RUNNING")
+    assert job["request"]["settings"]["max_depth"] == 5, "defaults are filled in"
+    messages = read_stream(client, job["id"])
+    tiles, end = messages[:-1], messages[-1]
+    assert end.WhichOneof("message") == "end" and end.end.state == job_pb2.DONE
+    done = client.get(f"/api/jobs/{job['id']}").json()
+    assert done["state"] == "DONE" and done["progress"] == 1 and done["tiles_done"] == done["tiles_total"]
+    assert done["passes"] == 2, "300x240 gets a preview pass"
+    assert int(done["rays"]) > 300 * 240 and done["finished_at"] >= done["started_at"] > 0
+    # Every tile exactly once per pass, covering the image.
+    for pass_index in range(done["passes"]):
+        rects = [(t.tile.x, t.tile.y) for t in tiles if getattr(t.tile, "pass") == pass_index]
+        assert len(rects) == len(set(rects))
+    assert len(tiles) == done["tiles_total"]
+    png = client.get(f"/api/jobs/{job['id']}/image.png")
+    assert png.status_code == 200 and png.headers["content-type"] == "image/png"
+    expected = np.asarray(Image.open(io.BytesIO(png.content)).convert("RGBA"))
+    assert np.array_equal(assemble(tiles, 300, 240), expected)
+    assert expected[..., :3].max() > 40, "the lit box is not black"
+
+
+def test_exr_holds_linear_colour(client, cornell_id):
+    job = submit(client, cornell_id).json()
+    wait_for(client, job["id"])
+    exr = client.get(f"/api/jobs/{job['id']}/image.exr")
+    assert exr.status_code == 200 and exr.content[:4] == b"\x76\x2f\x31\x01"
+
+
+def test_aux_outputs_are_images_and_exr_layers(client, cornell_id):
+    job = submit(client, cornell_id, outputs=["DEPTH", "NORMAL", "ALBEDO", "BVH_COST"]).json()
+    assert wait_for(client, job["id"])["state"] == "DONE"
+    for name in ("depth", "normal", "albedo", "bvh_cost"):
+        response = client.get(f"/api/jobs/{job['id']}/{name}.png")
+        assert response.status_code == 200, name
+        pixels = np.asarray(Image.open(io.BytesIO(response.content)))
+        assert pixels.shape[:2] == (72, 96) and pixels.std() > 0, name
+    exr = client.get(f"/api/jobs/{job['id']}/image.exr").content
+    for channel in (b"depth", b"normal", b"albedo", b"bvh_cost"):
+        assert channel in exr[:4096], channel
+    plain = submit(client, cornell_id).json()
+    wait_for(client, plain["id"])
+    missing = client.get(f"/api/jobs/{plain['id']}/depth.png")
+    assert missing.status_code == 404 and "outputs" in missing.json()["detail"]
+
+
+@pytest.mark.parametrize("body, status, words", [
+    ({"scene_id": "nope"}, 404, "nope"),
+    ({"scene_id": "{cornell}", "settings": {"width": 0}}, 422, "settings.width: 0 is below the minimum 1"),
+    ({"scene_id": "{cornell}", "settings": {"width": 16384, "height": 16384}}, 422, "limit"),
+    ({"scene_id": "{cornell}", "settings": {"maxDepth": -1}}, 422, "settings.max_depth): invalid value -1"),
+    ({"scene_id": "{cornell}", "settings": {"widht": 5}}, 422, "widht"),
+    ({"scene_id": "{cornell}", "camera": {"position": [0, 0]}}, 422, "position: needs 3 values"),
+    ({"scene_id": "{cornell}", "camera": {"position": [1, 1, 1], "target": [1, 1, 1]}}, 422, "must differ"),
+    ({"scene_id": "{cornell}", "outputs": ["SPARKLES"]}, 422, "SPARKLES"),
+])
+def test_bad_job_requests_are_refused_naming_the_problem(client, cornell_id, body, status, words):
+    if body.get("scene_id") == "{cornell}":
+        body = {**body, "scene_id": cornell_id}
+    response = client.post("/api/jobs", json=body)
+    assert response.status_code == status, response.text
+    assert words in response.json()["detail"]
+
+
+def test_malformed_json_is_a_422(client):
+    for content in (b"", b"{", b"[1, 2]", b"\xff\xfe"):
+        response = client.post("/api/jobs", content=content, headers={"content-type": "application/json"})
+        assert response.status_code == 422, content
+
+
+def test_unknown_jobs_are_404(client):
+    for url in ("/api/jobs/nope", "/api/jobs/nope/image.png", "/api/jobs/nope/image.exr"):
+        assert client.get(url).status_code == 404
+    assert client.delete("/api/jobs/nope").status_code == 404
+    assert client.get("/api/jobs/nope/sparkles.png").status_code == 404
+
+
+def test_jobs_are_listed_newest_first_and_paged(client, cornell_id):
+    ids = [submit(client, cornell_id, 16, 16).json()["id"] for _ in range(3)]
+    for job_id in ids:
+        wait_for(client, job_id)
+    first = client.get("/api/jobs?limit=2").json()
+    assert [j["id"] for j in first["jobs"]] == ids[::-1][:2] and first["total"] >= 3
+    second = client.get("/api/jobs?limit=2&offset=2").json()
+    assert second["jobs"][0]["id"] == ids[0] and second["offset"] == 2
+    assert client.get("/api/jobs?limit=0").status_code == 422
+
+
+def test_cancel_stops_a_running_job_within_a_second(client, dragon_id):
+    job = submit(client, dragon_id, 1024, 1024, settings={"width": 1024, "height": 1024, "lightSamples": 64}).json()
+    deadline = time.monotonic() + 20
+    while client.get(f"/api/jobs/{job['id']}").json()["tiles_done"] < 2:
+        assert time.monotonic() < deadline, "no tile finished"
+        time.sleep(0.05)
+    started = time.monotonic()
+    cancelled = client.delete(f"/api/jobs/{job['id']}").json()
+    assert time.monotonic() - started < 1.0
+    assert cancelled["state"] == "CANCELLED" and "cancel" in cancelled["error"]
+    after = client.get(f"/api/jobs/{job['id']}").json()
+    time.sleep(0.5)
+    assert client.get(f"/api/jobs/{job['id']}").json()["tiles_done"] == after["tiles_done"]
+    assert client.get(f"/api/jobs/{job['id']}/image.png").status_code == 409
+    assert read_stream(client, job["id"])[-1].end.state == job_pb2.CANCELLED
+
+
+def test_a_late_viewer_gets_the_image_so_far_then_the_rest(client, cornell_id):
+    job = submit(client, cornell_id, 200, 150).json()
+    early = read_stream(client, job["id"])
+    late = read_stream(client, job["id"])  # after the end: the kept stream replays
+    assert [m.SerializeToString() for m in early] == [m.SerializeToString() for m in late]
+
+
+def test_unknown_job_stream_is_closed_with_a_reason(client):
+    from starlette.websockets import WebSocketDisconnect
+
+    with client.websocket_connect("/api/jobs/nope/tiles") as ws:
+        with pytest.raises(WebSocketDisconnect) as closed:
+            ws.receive_bytes()
+    assert closed.value.code == 4404

@@ -1,0 +1,51 @@
+"""Restarting the service loses no scene, job record or image, and leaves no
+job showing 'running' forever."""
+
+import time
+
+from fastapi.testclient import TestClient
+
+from app.main import create_app
+from service import service_settings
+from stream_reader import wait_for
+
+
+def test_restart_keeps_scenes_jobs_and_images_and_resumes_running_jobs(tmp_path, scenes_dir):
+    settings = service_settings(tmp_path)
+    with TestClient(create_app(settings)) as first:
+        with open(scenes_dir / "bunny.glb", "rb") as f:
+            scene_id = first.post("/api/scenes", files={"file": ("bunny.glb", f)}).json()["id"]
+        finished = first.post("/api/jobs", json={"scene_id": scene_id, "settings": {"width": 64, "height": 48}}).json()
+        assert wait_for(first, finished["id"])["state"] == "DONE"
+        image = first.get(f"/api/jobs/{finished['id']}/image.png").content
+        big = first.post("/api/jobs", json={"scene_id": scene_id,
+                                            "settings": {"width": 2048, "height": 1536}}).json()
+        time.sleep(0.3)
+        assert first.get(f"/api/jobs/{big['id']}").json()["state"] in ("QUEUED", "RUNNING")
+    # The server stopped mid-job. A new one on the same data folder:
+    with TestClient(create_app(settings)) as second:
+        assert second.get(f"/api/scenes/{scene_id}").json()["name"] == "bunny.glb"
+        again = second.get(f"/api/jobs/{finished['id']}").json()
+        assert again["state"] == "DONE" and again["id"] == finished["id"]
+        assert second.get(f"/api/jobs/{finished['id']}/image.png").content == image
+        resumed = wait_for(second, big["id"], timeout=180)
+        assert resumed["state"] == "DONE" and resumed["tiles_done"] == resumed["tiles_total"]
+        # A late viewer of a job finished before the restart gets the whole image, then the end.
+        ids = [j["id"] for j in second.get("/api/jobs").json()["jobs"]]
+        assert ids.index(big["id"]) < ids.index(finished["id"]), "newest first"
+
+
+def test_a_job_whose_scene_vanished_while_down_fails_with_the_reason(tmp_path, scenes_dir):
+    settings = service_settings(tmp_path)
+    with TestClient(create_app(settings)) as first:
+        with open(scenes_dir / "teapot.glb", "rb") as f:
+            scene_id = first.post("/api/scenes", files={"file": ("teapot.glb", f)}).json()["id"]
+        job = first.post("/api/jobs", json={"scene_id": scene_id,
+                                            "settings": {"width": 2048, "height": 2048, "light_samples": 256}}).json()
+        time.sleep(0.2)
+    import shutil
+
+    shutil.rmtree(settings.scenes_dir / scene_id)
+    with TestClient(create_app(settings)) as second:
+        failed = second.get(f"/api/jobs/{job['id']}").json()
+        assert failed["state"] == "FAILED" and "scene is gone" in failed["error"]
