@@ -23,7 +23,7 @@ help:
 	@echo "make run    serve the app on http://127.0.0.1:8000 (HOST, PORT override)"
 	@echo "make test   build everything and run every test"
 	@echo "make build  build the renderer, rtrender and rtcore"
-	@echo "make bench  benchmarks (BVH against Embree)"
+	@echo "make bench  benchmarks: BVH against Embree, the seed's table, the service against rtrender"
 
 # apt packages, installed only when missing.
 $(BUILD)/.deps: Makefile
@@ -99,6 +99,7 @@ run: build samples
 bench: build samples
 	$(BUILD)/renderer/bvh_bench --scenes $(SCENES)
 	$(PY) renderer/bench/seed_table.py --scenes $(SCENES) --rtrender $(BUILD)/rtrender --out $(BUILD)/bench
+	$(PY) tests/bench/service_bench.py --scenes $(SCENES) --rtrender $(BUILD)/rtrender
 
 clean:
 	rm -rf $(BUILD)

@@ -15,6 +15,7 @@ from fastapi.staticfiles import StaticFiles
 from .api.routes import health, jobs, scenes
 from .core.config import Settings, load_settings
 from .core.proto import openapi_components
+from .core.security import is_authorized
 from .services.cluster import RenderCluster
 from .services.job_store import JobStore
 from .services.jobs import JobManager
@@ -46,6 +47,13 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app = FastAPI(title="rt", summary="Ray tracing render service", lifespan=lifespan)
     for router in (health.router, scenes.router, jobs.router):
         app.include_router(router)
+
+    @app.middleware("http")
+    async def require_token(request: Request, call_next):
+        if request.url.path.startswith("/api/") and not is_authorized(request, settings.api_token):
+            return JSONResponse({"detail": "this server needs an API token: send 'Authorization: Bearer <token>'"},
+                                status_code=401, headers={"WWW-Authenticate": "Bearer"})
+        return await call_next(request)
 
     @app.middleware("http")
     async def refuse_oversized_uploads(request: Request, call_next):

@@ -49,3 +49,18 @@ def test_a_job_whose_scene_vanished_while_down_fails_with_the_reason(tmp_path, s
     with TestClient(create_app(settings)) as second:
         failed = second.get(f"/api/jobs/{job['id']}").json()
         assert failed["state"] == "FAILED" and "scene is gone" in failed["error"]
+
+
+def test_sample_scenes_are_added_once(tmp_path, scenes_dir):
+    import shutil
+
+    samples = tmp_path / "samples"
+    samples.mkdir()
+    for name in ("cornell.obj", "cornell.mtl", "cornell.rt.json", "teapot.glb"):
+        shutil.copy(scenes_dir / name, samples / name)
+    settings = service_settings(tmp_path / "data", samples_dir=samples)
+    for _ in range(2):  # a restart does not add them again
+        with TestClient(create_app(settings)) as client:
+            scenes = {s["name"]: s for s in client.get("/api/scenes").json()["scenes"]}
+            assert sorted(scenes) == ["cornell.obj", "teapot.glb"]
+            assert scenes["cornell.obj"]["lights"] and not scenes["cornell.obj"]["warnings"]

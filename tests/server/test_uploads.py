@@ -150,11 +150,14 @@ def test_zip_from_macos_finder_ignores_its_resource_forks(folder, cornell):
     assert sorted(tree(folder)) == ["cornell.mtl", "cornell.obj", "cornell.rt.json"]
 
 
-def test_nested_zip_is_stored_as_a_file_not_unpacked(folder, cornell):
+def test_files_of_other_types_are_left_out_and_named(folder, cornell):
     inner = make_zip([("other.obj", cornell[0][1])])
-    stored = store(folder, "c.zip", make_zip(cornell + [("more.zip", inner)]))
+    extra = [("more.zip", inner), ("run.exe", b"MZ"), ("docs/index.html", b"<script>"), ("tex/wood.png", b"png")]
+    stored = store(folder, "c.zip", make_zip(cornell + extra))
     assert stored.scene_file == folder / "cornell.obj"
-    assert (folder / "more.zip").read_bytes() == inner and not (folder / "other.obj").exists()
+    assert sorted(stored.left_out) == ["docs/index.html", "more.zip", "run.exe"]
+    assert not (folder / "more.zip").exists() and not (folder / "other.obj").exists()
+    assert not (folder / "run.exe").exists() and (folder / "tex" / "wood.png").exists()
 
 
 def test_filename_loses_its_folders_and_odd_characters(folder, cornell):

@@ -32,6 +32,8 @@ class Settings:
     embedded_threads: int = field(default_factory=lambda: _int("RT_THREADS", os.cpu_count() or 1))
     # The built viewer (web/dist), served at /.
     web_dir: Path = field(default_factory=lambda: Path(os.environ.get("RT_WEB_DIR", REPO_ROOT / "web" / "dist")))
+    # When set, every /api route and the tile WebSocket need it as a bearer token.
+    api_token: str = field(default_factory=lambda: os.environ.get("RT_API_TOKEN", ""))
     # Sample scenes (make samples) added to the store at start-up when missing.
     samples_dir: Path | None = field(default_factory=lambda: Path(os.environ["RT_SAMPLES_DIR"])
                                      if os.environ.get("RT_SAMPLES_DIR") else None)

@@ -9,6 +9,7 @@ viewer that paints every tile holds exactly image.png.
 from __future__ import annotations
 
 import io
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -27,8 +28,9 @@ def rgba8(color: np.ndarray) -> np.ndarray:
 
 
 def png_bytes(rgba: np.ndarray) -> bytes:
+    """Opaque RGB PNG; fast zlib (level 1): it is written while a viewer waits."""
     out = io.BytesIO()
-    Image.fromarray(rgba, "RGBA").save(out, format="PNG")
+    Image.fromarray(np.ascontiguousarray(rgba[..., :3]), "RGB").save(out, format="PNG", compress_level=1)
     return out.getvalue()
 
 
@@ -80,12 +82,22 @@ class JobImage:
 
     def write(self, folder: Path) -> None:
         """image.exr (colour and every auxiliary layer, linear), image.png, and
-        one PNG per auxiliary layer; each written whole, then renamed."""
+        one PNG per auxiliary layer; each written whole, then renamed. The files
+        are encoded in parallel (both encoders release the GIL)."""
         folder.mkdir(parents=True, exist_ok=True)
-        partial = folder / "image.part.exr"
-        rtcore.write_exr(str(partial), self.color, {k: v for k, v in self.aux.items()})
-        partial.replace(folder / "image.exr")
-        for name, rgba in [("image", rgba8(self.color))] + [(n, aux_preview(n, v)) for n, v in self.aux.items()]:
-            part = folder / f"{name}.part.png"
-            part.write_bytes(png_bytes(rgba))
-            part.replace(folder / f"{name}.png")
+
+        def exr() -> None:
+            partial = folder / "image.part.exr"
+            rtcore.write_exr(str(partial), self.color, dict(self.aux))
+            partial.replace(folder / "image.exr")
+
+        def png(name: str, picture) -> None:
+            partial = folder / f"{name}.part.png"
+            partial.write_bytes(png_bytes(picture()))
+            partial.replace(folder / f"{name}.png")
+
+        pictures = [("image", lambda: rgba8(self.color))]
+        pictures += [(n, lambda n=n, v=v: aux_preview(n, v)) for n, v in self.aux.items()]
+        with ThreadPoolExecutor(max_workers=len(pictures) + 1) as pool:
+            for done in [pool.submit(exr)] + [pool.submit(png, n, p) for n, p in pictures]:
+                done.result()

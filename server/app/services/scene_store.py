@@ -92,6 +92,9 @@ class SceneStore:
             except ValueError as e:
                 raise UploadError(f"{Path(filename).name}: {e}", status=400) from None
             info = _scene_info(scene_id, name or Path(filename).name, upload, scene)
+            if upload.left_out:
+                shown = ", ".join(upload.left_out[:5]) + (", ..." if len(upload.left_out) > 5 else "")
+                info.warnings.append(f"left out {len(upload.left_out)} file(s) of types a scene does not use: {shown}")
             (folder / "stored.json").write_text(json.dumps(
                 {"scene_file": str(upload.scene_file.relative_to(folder)), "sha256": upload.sha256}))
             (folder / "scene.json").write_text(to_json_text(info))

@@ -32,6 +32,10 @@ from pathlib import Path
 from typing import BinaryIO, Iterator
 
 SCENE_FORMATS = ("glb", "gltf", "obj")
+# What a scene's folder may hold: scene files, glTF buffers, OBJ materials, the
+# .rt.json sidecar, and the textures the renderer decodes. Other files in a zip
+# are left out (and named in the scene's warnings).
+KEPT_SUFFIXES = frozenset(SCENE_FORMATS + ("bin", "mtl", "json", "png", "jpg", "jpeg", "bmp", "tga"))
 _CHUNK = 1 << 20
 _MAX_NAME_BYTES = 255
 _MAX_PATH_BYTES = 1024
@@ -58,6 +62,7 @@ class StoredUpload:
     format: str  # "glb" | "gltf" | "obj"
     size_bytes: int  # bytes received
     sha256: str  # hex digest of the bytes received (of the zip, for a zip)
+    left_out: tuple[str, ...] = ()  # zip entries of other types, not unpacked
 
 
 def store_upload(filename: str, stream: BinaryIO, folder: Path, *, max_bytes: int,
@@ -75,13 +80,14 @@ def store_upload(filename: str, stream: BinaryIO, folder: Path, *, max_bytes: in
             size, sha256 = _receive(stream, spool, max_bytes)
             with open(spool, "rb") as spooled:
                 spool.unlink()  # still readable while open; no entry can clash with it, nor refusal leave it
-                scene_file = _extract_zip(spooled, folder, max_unpacked_bytes, max_files)
+                scene_file, left_out = _extract_zip(spooled, folder, max_unpacked_bytes, max_files)
         else:
+            left_out = ()
             scene_file = folder / name
             size, sha256 = _receive(stream, scene_file, max_bytes)
         scene_format = scene_file.suffix[1:].lower()
         _check_scene_file(scene_file, scene_format)
-        return StoredUpload(folder, scene_file, scene_format, size, sha256)
+        return StoredUpload(folder, scene_file, scene_format, size, sha256, left_out)
     except BaseException:
         _empty(folder)
         raise
@@ -174,8 +180,10 @@ def _is_junk(parts: tuple[str, ...]) -> bool:
     return parts[0] == "__MACOSX" or parts[-1] == ".DS_Store" or parts[-1].startswith("._")
 
 
-def _extract_zip(spooled: BinaryIO, folder: Path, max_unpacked_bytes: int, max_files: int) -> Path:
-    """Checks every entry, then unpacks the zip into `folder`; returns the scene file."""
+def _extract_zip(spooled: BinaryIO, folder: Path, max_unpacked_bytes: int,
+                 max_files: int) -> tuple[Path, tuple[str, ...]]:
+    """Checks every entry, then unpacks the zip into `folder`; returns the scene
+    file and the entries left out for their type."""
     with _reading_zip():
         archive = zipfile.ZipFile(spooled)  # holds no resource of its own: closing `spooled` is enough
     infos = archive.infolist()
@@ -211,6 +219,10 @@ def _extract_zip(spooled: BinaryIO, folder: Path, max_unpacked_bytes: int, max_f
         shown = ", ".join("/".join(parts) for parts in scenes[:5]) + (", ..." if len(scenes) > 5 else "")
         raise UploadError(f"the zip holds several scenes: {_shown(shown, 400)[1:-1]}; upload one at a time")
 
+    left_out = tuple("/".join(parts) for _, parts, is_dir in entries
+                     if not is_dir and parts[-1].rpartition(".")[2].lower() not in KEPT_SUFFIXES)
+    entries = [(info, parts, is_dir) for info, parts, is_dir in entries
+               if is_dir or parts[-1].rpartition(".")[2].lower() in KEPT_SUFFIXES]
     root = folder.resolve()
     budget = max_unpacked_bytes  # spent on the bytes actually unpacked, not on the declared sizes
     for info, parts, is_dir in entries:
@@ -220,7 +232,7 @@ def _extract_zip(spooled: BinaryIO, folder: Path, max_unpacked_bytes: int, max_f
         (target if is_dir else target.parent).mkdir(parents=True, exist_ok=True)
         if not is_dir:
             budget = _unpack(archive, info, target, budget, max_unpacked_bytes)
-    return folder.joinpath(*scenes[0])
+    return folder.joinpath(*scenes[0]), left_out
 
 
 def _unpack(archive: zipfile.ZipFile, info: zipfile.ZipInfo, target: Path, budget: int, limit: int) -> int:

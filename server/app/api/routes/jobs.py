@@ -12,6 +12,7 @@ from PIL import Image
 from rt import job_pb2
 
 from ...core.proto import json_body, json_response, parse
+from ...core.security import is_authorized
 from ...services.job_image import AUX_CHANNELS
 from ...services.jobs import FINAL_STATES, JobError, JobManager, final_image_stream
 from ..deps import jobs, proto_json
@@ -92,6 +93,9 @@ async def tile_stream(websocket: WebSocket, job_id: str):
     then the final job record; the server closes the socket after it."""
     manager: JobManager = websocket.app.state.jobs
     await websocket.accept()
+    if not is_authorized(websocket, websocket.app.state.settings.api_token):
+        await websocket.close(code=4401, reason="this server needs an API token: add ?token=<token>")
+        return
     job = manager.get(job_id)
     if job is None:
         await websocket.close(code=4404, reason=f"no job with id '{job_id}'")

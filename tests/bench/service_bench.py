@@ -1,0 +1,129 @@
+#!/usr/bin/env python3
+"""The job service against rtrender on the same machine, in one run.
+
+A server with its embedded Dask cluster is started as `make run` starts it; the
+full dragon is uploaded (so it is loaded), then for each round rtrender renders
+it, and the service renders the same image (same camera and settings) while a
+WebSocket client watches. Printed: rtrender's render time, the service's time
+from POST /api/jobs to the stream's end, their ratio (throughput of the service
+over rtrender's), and the time from POST to the first tile on the WebSocket.
+
+  tests/bench/service_bench.py --scenes build/scenes --rtrender build/rtrender [--size 1024] [--rounds 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import re
+import socket
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import httpx
+from rt import job_pb2
+from websockets.sync.client import connect
+
+ROOT = Path(__file__).resolve().parents[2]
+RENDER_MS = re.compile(r"render ([\d.]+) ms")
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def start_server(data_dir: Path, port: int) -> subprocess.Popen:
+    env = {**os.environ, "RT_DATA_DIR": str(data_dir), "PORT": str(port), "HOST": "127.0.0.1",
+           "PYTHONPATH": str(ROOT / "server")}
+    server = subprocess.Popen([sys.executable, "-m", "app"], env=env, cwd=ROOT, stdout=subprocess.DEVNULL,
+                              stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        try:
+            if httpx.get(f"http://127.0.0.1:{port}/api/health").json()["workers"]:
+                return server
+        except httpx.HTTPError:
+            time.sleep(0.2)
+    server.kill()
+    sys.exit("service_bench: the server did not start")
+
+
+def rtrender_ms(rtrender: Path, scene: Path, camera: dict, settings: dict, out: Path) -> float:
+    camera_file = out / "camera.json"
+    settings_file = out / "settings.json"
+    camera_file.write_text(json.dumps(camera))
+    settings_file.write_text(json.dumps(settings))
+    result = subprocess.run([str(rtrender), str(scene), "-o", str(out / "rtrender.png"), "--quiet",
+                             "--camera-file", str(camera_file), "--settings", str(settings_file)],
+                            capture_output=True, text=True, check=True)
+    return float(RENDER_MS.search(result.stdout + result.stderr).group(1))
+
+
+def service_run(base: str, scene_id: str, camera: dict, settings: dict) -> tuple[float, float]:
+    """(seconds from POST to the first tile, seconds from POST to the end)."""
+    ws_base = base.replace("http://", "ws://")
+    posted = time.perf_counter()
+    job = httpx.post(f"{base}/api/jobs", json={"scene_id": scene_id, "camera": camera, "settings": settings}).json()
+    first = None
+    with connect(f"{ws_base}/api/jobs/{job['id']}/tiles", max_size=None) as ws:
+        for message in ws:
+            first = first or time.perf_counter() - posted
+            if job_pb2.TileStreamMessage.FromString(message).WhichOneof("message") == "end":
+                break
+    ended = time.perf_counter() - posted
+    state = httpx.get(f"{base}/api/jobs/{job['id']}").json()["state"]
+    if state != "DONE":
+        sys.exit(f"service_bench: the job ended {state}")
+    return first, ended
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--scenes", type=Path, required=True)
+    parser.add_argument("--rtrender", type=Path, required=True)
+    parser.add_argument("--scene", default="dragon_1.glb")
+    parser.add_argument("--size", type=int, default=1024)
+    parser.add_argument("--rounds", type=int, default=3)
+    args = parser.parse_args()
+
+    settings = {"width": args.size, "height": args.size}
+    port = free_port()
+    base = f"http://127.0.0.1:{port}"
+    with tempfile.TemporaryDirectory() as tmp:
+        server = start_server(Path(tmp) / "data", port)
+        try:
+            with open(args.scenes / args.scene, "rb") as f:
+                scene = httpx.post(f"{base}/api/scenes", files={"file": (args.scene, f)}, timeout=300).json()
+            camera = scene["default_camera"]
+            service_run(base, scene["id"], camera, {"width": 64, "height": 64})  # warm up the worker threads
+            ours, theirs, firsts = [], [], []
+            for _ in range(args.rounds):
+                theirs.append(rtrender_ms(args.rtrender, args.scenes / args.scene, camera, settings, Path(tmp)))
+                first, total = service_run(base, scene["id"], camera, settings)
+                ours.append(total * 1000)
+                firsts.append(first * 1000)
+        finally:
+            server.terminate()
+            server.wait(30)
+
+    print(f"\nService against rtrender: {args.scene}, {args.size}x{args.size}, default settings, "
+          f"{os.cpu_count()} cores, embedded cluster, {args.rounds} rounds (median)")
+    print(f"  rtrender render        {statistics.median(theirs):9.1f} ms   rounds: "
+          + ", ".join(f"{t:.0f}" for t in theirs))
+    print(f"  service POST to end    {statistics.median(ours):9.1f} ms   rounds: " + ", ".join(f"{t:.0f}" for t in ours))
+    ratio = statistics.median(t / o for t, o in zip(theirs, ours))
+    print(f"  throughput service / rtrender: {ratio:.2f}   (target >= 0.90)")
+    print(f"  first tile after POST  {statistics.median(firsts):9.1f} ms   (target <= 500 ms)   rounds: "
+          + ", ".join(f"{t:.0f}" for t in firsts))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

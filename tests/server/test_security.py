@@ -1,0 +1,53 @@
+"""RT_API_TOKEN: every /api route and the tile WebSocket need the token."""
+
+import pytest
+from fastapi.testclient import TestClient
+from starlette.websockets import WebSocketDisconnect
+
+from app.main import create_app
+from service import service_settings
+
+TOKEN = "s3cret-token"
+
+
+@pytest.fixture(scope="module")
+def guarded(tmp_path_factory):
+    with TestClient(create_app(service_settings(tmp_path_factory.mktemp("data"), api_token=TOKEN))) as client:
+        yield client
+
+
+@pytest.mark.parametrize("method, url", [
+    ("get", "/api/health"), ("get", "/api/scenes"), ("post", "/api/scenes"), ("get", "/api/jobs"),
+    ("post", "/api/jobs"), ("get", "/api/jobs/x/image.png"), ("delete", "/api/scenes/x"),
+])
+def test_routes_refuse_requests_without_the_token(guarded, method, url):
+    response = getattr(guarded, method)(url)
+    assert response.status_code == 401 and "token" in response.json()["detail"]
+    assert response.headers["www-authenticate"] == "Bearer"
+    wrong = getattr(guarded, method)(url, headers={"Authorization": "Bearer nope"})
+    assert wrong.status_code == 401
+
+
+def test_the_token_opens_every_route(guarded, scenes_dir):
+    headers = {"Authorization": f"Bearer {TOKEN}"}
+    assert guarded.get("/api/health", headers=headers).status_code == 200
+    with open(scenes_dir / "teapot.glb", "rb") as f:
+        scene = guarded.post("/api/scenes", files={"file": ("teapot.glb", f)}, headers=headers)
+    assert scene.status_code == 201
+    job = guarded.post("/api/jobs", json={"scene_id": scene.json()["id"], "settings": {"width": 8, "height": 8}},
+                       headers=headers).json()
+    # Browsers cannot set headers on a WebSocket or a link: ?token= works too.
+    assert guarded.get(f"/api/jobs/{job['id']}?token={TOKEN}").status_code == 200
+    with guarded.websocket_connect(f"/api/jobs/{job['id']}/tiles?token={TOKEN}") as ws:
+        assert ws.receive_bytes()
+
+
+def test_the_websocket_refuses_without_the_token(guarded):
+    with guarded.websocket_connect("/api/jobs/any/tiles") as ws:
+        with pytest.raises(WebSocketDisconnect) as closed:
+            ws.receive_bytes()
+    assert closed.value.code == 4401
+
+
+def test_the_viewer_and_docs_need_no_token(guarded):
+    assert guarded.get("/openapi.json").status_code == 200
