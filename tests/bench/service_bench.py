@@ -74,8 +74,10 @@ def service_run(base: str, scene_id: str, camera: dict, settings: dict) -> tuple
     first = None
     with connect(f"{ws_base}/api/jobs/{job['id']}/tiles", max_size=None) as ws:
         for message in ws:
-            first = first or time.perf_counter() - posted
-            if job_pb2.TileStreamMessage.FromString(message).WhichOneof("message") == "end":
+            kind = job_pb2.TileStreamMessage.FromString(message).WhichOneof("message")
+            if kind == "tile" and first is None:
+                first = time.perf_counter() - posted
+            if kind == "end":
                 break
     ended = time.perf_counter() - posted
     state = httpx.get(f"{base}/api/jobs/{job['id']}").json()["state"]

@@ -25,7 +25,9 @@ def test_a_minimal_job_renders_and_its_stream_equals_image_png(client, cornell_i
     assert job["state"] in ("QUEUED", "RUNNING")
     assert job["request"]["settings"]["max_depth"] == 5, "defaults are filled in"
     messages = read_stream(client, job["id"])
-    tiles, end = messages[:-1], messages[-1]
+    tiles = [m for m in messages if m.WhichOneof("message") == "tile"]
+    started = [m.started for m in messages if m.WhichOneof("message") == "started"]
+    end = messages[-1]
     assert end.WhichOneof("message") == "end" and end.end.state == job_pb2.DONE
     done = client.get(f"/api/jobs/{job['id']}").json()
     assert done["state"] == "DONE" and done["progress"] == 1 and done["tiles_done"] == done["tiles_total"]
@@ -36,6 +38,13 @@ def test_a_minimal_job_renders_and_its_stream_equals_image_png(client, cornell_i
         rects = [(t.tile.x, t.tile.y) for t in tiles if getattr(t.tile, "pass") == pass_index]
         assert len(rects) == len(set(rects))
     assert len(tiles) == done["tiles_total"]
+    # Workers announce tiles as they start them; an announcement never follows its tile.
+    assert started, "no tile was announced as started"
+    finished_at = {(getattr(m.tile, "pass"), m.tile.x, m.tile.y): i for i, m in enumerate(messages)
+                   if m.WhichOneof("message") == "tile"}
+    for i, m in enumerate(messages):
+        if m.WhichOneof("message") == "started":
+            assert finished_at[(getattr(m.started, "pass"), m.started.x, m.started.y)] > i
     png = client.get(f"/api/jobs/{job['id']}/image.png")
     assert png.status_code == 200 and png.headers["content-type"] == "image/png"
     expected = np.asarray(Image.open(io.BytesIO(png.content)).convert("RGBA"))

@@ -27,7 +27,7 @@ from .job_store import JobStore
 from .scene_store import SceneStore, StoredScene
 from .streams import TileStream
 from .tile_plan import TileSpec, plan_passes
-from .tile_tasks import aux_names, render_tile
+from .tile_tasks import TILE_STARTED_TOPIC, aux_names, render_tile
 
 log = logging.getLogger("rt.jobs")
 
@@ -59,6 +59,15 @@ class JobManager:
         self._store = store
         self._running: dict[str, RunningJob] = {}
         self._finished_streams: OrderedDict[str, TileStream] = OrderedDict()
+        self._tiles: dict[str, tuple[RunningJob, TileSpec]] = {}  # Dask key -> its job and tile
+        cluster.client.subscribe_topic(TILE_STARTED_TOPIC, self._tile_started)
+
+    async def _tile_started(self, event: tuple[float, str]) -> None:
+        found = self._tiles.get(event[1])
+        if found is not None:  # not when the tile's result came first
+            running, spec = found
+            started = job_pb2.TileStarted(**{"pass": spec.pass_index}, x=spec.x, y=spec.y, w=spec.w, h=spec.h)
+            await running.stream.publish(job_pb2.TileStreamMessage(started=started))
 
     # --- requests -----------------------------------------------------------
 
@@ -180,6 +189,7 @@ class JobManager:
                                    spec.x, spec.y, spec.w, spec.h, spec.scale, priority=spec.priority, pure=False,
                                    key=f"tile-{job.id}-{run}-{spec.pass_index}-{spec.x}-{spec.y}")
             futures[future.key] = spec
+            self._tiles[future.key] = (running, spec)
             submitted.append(future)
         samples_done = 0
         last_saved = 0.0
@@ -188,13 +198,14 @@ class JobManager:
             async for future in as_completed(submitted):
                 spec = futures[future.key]
                 result = await future
+                self._tiles.pop(future.key, None)
                 if job.state == job_pb2.QUEUED:
                     job.state = job_pb2.RUNNING
                     job.started_at = result["started"]
                 pixels = image.add(spec, result["layers"])
-                await running.stream.publish(job_pb2.Tile(job=job.id, **{"pass": spec.pass_index}, x=spec.x,
-                                                          y=spec.y, w=spec.w, h=spec.h, scale=spec.scale,
-                                                          pixels=pixels))
+                tile = job_pb2.Tile(job=job.id, **{"pass": spec.pass_index}, x=spec.x, y=spec.y, w=spec.w,
+                                    h=spec.h, scale=spec.scale, pixels=pixels)
+                await running.stream.publish(job_pb2.TileStreamMessage(tile=tile))
                 job.tiles_done += 1
                 samples_done += spec.samples
                 job.progress = samples_done / total_samples
@@ -216,6 +227,8 @@ class JobManager:
             await client.cancel(submitted)
             self._end(job, job_pb2.FAILED, f"{type(e).__name__}: {e}")
         finally:
+            for key in futures:
+                self._tiles.pop(key, None)
             self._running.pop(job.id, None)
             if not shutdown:
                 await running.stream.finish(job)

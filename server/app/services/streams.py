@@ -1,6 +1,6 @@
 """The tile stream of one job, as every viewer receives it.
 
-Every finished tile is kept (encoded once) in order, so a viewer that connects
+Every tile started and finished is kept (encoded once) in order, so a viewer that connects
 late first receives the image so far, tile by tile, and then follows live:
 each viewer gets each tile exactly once per pass. The stream ends with the job's
 final record.
@@ -24,8 +24,8 @@ class TileStream:
     def finished(self) -> bool:
         return self._end is not None
 
-    async def publish(self, tile: job_pb2.Tile) -> None:
-        self._messages.append(job_pb2.TileStreamMessage(tile=tile).SerializeToString())
+    async def publish(self, message: job_pb2.TileStreamMessage) -> None:
+        self._messages.append(message.SerializeToString())
         async with self._changed:
             self._changed.notify_all()
 

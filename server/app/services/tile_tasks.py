@@ -12,6 +12,7 @@ import time
 from typing import Any
 
 import numpy as np
+from distributed import get_worker
 from rt import job_pb2
 
 from .scene_cache import get_scene
@@ -21,11 +22,18 @@ def aux_names(request: job_pb2.JobRequest) -> list[str]:
     return [job_pb2.AuxOutput.Name(o).lower() for o in request.outputs]
 
 
+# Workers announce each tile they start on this topic; the server forwards it
+# to the job's viewers, who outline the tiles being rendered.
+TILE_STARTED_TOPIC = "rt-tile-started"
+
+
 def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, x: int, y: int, w: int, h: int,
                 scale: int) -> dict[str, Any]:
     """Renders one tile: its layers as arrays of ceil(h/scale) x ceil(w/scale)
     samples, the rays traced, and when the worker started and how long it took."""
     started = time.time()
+    worker = get_worker()
+    worker.log_event(TILE_STARTED_TOPIC, worker.get_current_task())
     request = job_pb2.JobRequest.FromString(request_bytes)
     scene = get_scene(scene_hash, scene_path)
     camera = request.camera.SerializeToString()
