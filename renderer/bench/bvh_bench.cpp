@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "accel.h"
+#include "brute_force.h"
 #include "camera.h"
 #include "default_camera.h"
 #include "loader.h"
@@ -199,26 +200,6 @@ Rays make_rays(const Scene& scene, const Accelerator& accel, uint32_t size) {
     return rays;
 }
 
-// The closest hit by testing every primitive: the arbiter where we and Embree differ.
-Hit brute_force(const Scene& scene, const Ray& ray) {
-    Hit hit;
-    const WatertightRay watertight(ray);
-    for (size_t i = 0; i < scene.triangles.size(); ++i) {
-        const uvec3 t = scene.triangles[i];
-        TriangleHit th;
-        if (intersect_triangle(watertight, scene.positions[t[0]], scene.positions[t[1]], scene.positions[t[2]],
-                               std::min(hit.t, ray.t_max), th))
-            hit = {th.t, uint32_t(i), th.u, th.v};
-    }
-    for (size_t s = 0; s < scene.spheres.size(); ++s) {
-        Ray clipped = ray;
-        clipped.t_max = std::min(hit.t, ray.t_max);
-        float t;
-        if (intersect_sphere(clipped, scene.spheres[s], t)) hit = {t, uint32_t(scene.triangles.size() + s), 0, 0};
-    }
-    return hit;
-}
-
 bool same_hit(const Hit& ours, const Hit& embree) {
     if (ours.found() != embree.found()) return false;
     return !ours.found() || std::abs(ours.t - embree.t) <= 1e-4f * std::max(1.0f, ours.t);
@@ -258,13 +239,13 @@ Result run_scene(const std::filesystem::path& file, const Options& options, unsi
         accel.intersect(ray, hit);
         if (same_hit(hit, embree.intersect(ray))) continue;
         ++result.primary_mismatches;
-        result.primary_ours_wrong += !same_hit(hit, brute_force(scene, ray));
+        result.primary_ours_wrong += !same_hit(hit, brute_force_hit(scene, ray));
     }
     for (const Ray& ray : rays.shadow) {
         const bool occluded = accel.occluded(ray);
         if (occluded == embree.occluded(ray)) continue;
         ++result.shadow_mismatches;
-        result.shadow_ours_wrong += occluded != brute_force(scene, ray).found();
+        result.shadow_ours_wrong += occluded != brute_force_hit(scene, ray).found();
     }
 
     std::vector<float> t(rays.primary.size());

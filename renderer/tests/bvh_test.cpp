@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "accel.h"
+#include "brute_force.h"
 #include "bvh/binned_sah_builder.h"
 #include "bvh/box_test.h"
 #include "test_meshes.h"
@@ -20,26 +21,6 @@ namespace {
 
 using namespace rt::testing;
 
-// The closest hit found by testing every primitive.
-Hit brute_force(const Scene& scene, const Ray& ray) {
-    Hit hit;
-    const WatertightRay watertight(ray);
-    for (size_t i = 0; i < scene.triangles.size(); ++i) {
-        const uvec3 t = scene.triangles[i];
-        TriangleHit th;
-        if (intersect_triangle(watertight, scene.positions[t[0]], scene.positions[t[1]], scene.positions[t[2]],
-                               std::min(hit.t, ray.t_max), th))
-            hit = {th.t, uint32_t(i), th.u, th.v};
-    }
-    for (size_t s = 0; s < scene.spheres.size(); ++s) {
-        Ray clipped = ray;
-        clipped.t_max = std::min(hit.t, ray.t_max);
-        float t;
-        if (intersect_sphere(clipped, scene.spheres[s], t)) hit = {t, uint32_t(scene.triangles.size() + s), 0, 0};
-    }
-    return hit;
-}
-
 // Compares the accelerator with brute force on random rays, reporting the
 // first few that disagree.
 void expect_matches_brute_force(const Scene& scene, size_t ray_count) {
@@ -47,7 +28,7 @@ void expect_matches_brute_force(const Scene& scene, size_t ray_count) {
     int failures = 0;
     size_t triangle_hits = 0;
     for (const Ray& ray : random_rays(scene, ray_count, 7)) {
-        const Hit expected = brute_force(scene, ray);
+        const Hit expected = brute_force_hit(scene, ray);
         triangle_hits += expected.primitive < scene.triangles.size();
         Hit hit;
         const bool found = accel.intersect(ray, hit);

@@ -1,0 +1,34 @@
+// The closest hit found by testing every primitive: the reference the BVH is
+// checked against (bvh_test) and the arbiter where we and Embree differ
+// (bvh_bench). Never used to render.
+#pragma once
+
+#include <algorithm>
+
+#include "accel.h"
+#include "scene.h"
+#include "sphere.h"
+#include "triangle.h"
+
+namespace rt {
+
+inline Hit brute_force_hit(const Scene& scene, const Ray& ray) {
+    Hit hit;
+    const WatertightRay watertight(ray);
+    for (size_t i = 0; i < scene.triangles.size(); ++i) {
+        const uvec3 t = scene.triangles[i];
+        TriangleHit th;
+        if (intersect_triangle(watertight, scene.positions[t[0]], scene.positions[t[1]], scene.positions[t[2]],
+                               std::min(hit.t, ray.t_max), th))
+            hit = {th.t, uint32_t(i), th.u, th.v};
+    }
+    for (size_t s = 0; s < scene.spheres.size(); ++s) {
+        Ray clipped = ray;
+        clipped.t_max = std::min(hit.t, ray.t_max);
+        float t;
+        if (intersect_sphere(clipped, scene.spheres[s], t)) hit = {t, uint32_t(scene.triangles.size() + s), 0, 0};
+    }
+    return hit;
+}
+
+}  // namespace rt
