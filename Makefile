@@ -17,7 +17,7 @@ CMAKE_FLAGS := -G Ninja -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=$(abspath
   -DRT_RUNTIME_DIR=$(abspath $(BUILD))
 export CCACHE_DIR ?= $(HOME)/.cache/ccache
 
-.PHONY: help deps venv build build-asan samples test test-cpp test-asan test-py run bench clean
+.PHONY: help deps venv build build-asan samples web test test-cpp test-asan test-py test-web run bench clean
 
 help:
 	@echo "make run    serve the app on http://127.0.0.1:8000 (HOST, PORT override)"
@@ -72,7 +72,6 @@ test-py: build samples
 # The viewer (web/): npm packages when node_modules is missing or older than the
 # lockfile; web/dist rebuilt (proto code generated first) unless it is newer than
 # every source of it.
-.PHONY: web test-web
 web: $(BUILD)/.deps
 	@if [ ! -d web/node_modules ] || [ web/package-lock.json -nt web/node_modules ]; then \
 	  (cd web && npm ci --no-audit --no-fund) && touch web/node_modules; \
@@ -90,10 +89,10 @@ test-web: build samples web
 	  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null; }
 	node --test --test-reporter=spec tests/web/
 
-test: test-cpp test-asan test-py
+test: test-cpp test-asan test-py test-web
 
 # The job service on http://$${HOST:-127.0.0.1}:$${PORT:-8000} with the sample scenes ready.
-run: build samples
+run: build samples web
 	RT_SAMPLES_DIR=$(abspath $(SCENES)) PYTHONPATH=server $(PY) -m app
 
 bench: build samples

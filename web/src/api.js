@@ -1,0 +1,123 @@
+// The job service's REST API. Answers are parsed into the generated messages;
+// a refused request throws an ApiError carrying the server's own words.
+import { parseJson, toJsonBody } from "./proto.js";
+
+export class ApiError extends Error {
+  constructor(message, status) {
+    super(message);
+    this.status = status;
+  }
+}
+
+function problem(status, body, fallback) {
+  let detail = fallback;
+  try {
+    const parsed = typeof body === "string" ? JSON.parse(body) : body;
+    if (parsed && typeof parsed.detail === "string") detail = parsed.detail;
+  } catch {
+    // not JSON: a proxy's or the network's answer
+  }
+  return new ApiError(detail, status);
+}
+
+async function request(method, path, body) {
+  let response;
+  try {
+    response = await fetch(path, {
+      method,
+      headers: body === undefined ? {} : { "Content-Type": "application/json" },
+      body: body === undefined ? undefined : JSON.stringify(body),
+    });
+  } catch (e) {
+    throw new ApiError(`cannot reach the server (${e.message})`, 0);
+  }
+  if (!response.ok) {
+    throw problem(response.status, await response.text(), `${method} ${path}: HTTP ${response.status}`);
+  }
+  return response.status === 204 ? null : response.json();
+}
+
+export async function listScenes() {
+  return parseJson("SceneList", await request("GET", "/api/scenes")).scenes;
+}
+
+export async function getScene(id) {
+  return parseJson("SceneInfo", await request("GET", `/api/scenes/${encodeURIComponent(id)}`));
+}
+
+export function deleteScene(id) {
+  return request("DELETE", `/api/scenes/${encodeURIComponent(id)}`);
+}
+
+export const modelUrl = (sceneId) => `/api/scenes/${encodeURIComponent(sceneId)}/model.glb`;
+
+/**
+ * Uploads a scene file; onProgress(fraction) follows the bytes sent. Resolves
+ * to the rt.SceneInfo; rejects with ApiError naming why the server refused it.
+ */
+export function uploadScene(file, onProgress = () => {}) {
+  return new Promise((resolve, reject) => {
+    const xhr = new XMLHttpRequest();
+    xhr.open("POST", "/api/scenes");
+    xhr.responseType = "text";
+    xhr.upload.addEventListener("progress", (e) => {
+      if (e.lengthComputable) onProgress(e.loaded / e.total);
+    });
+    xhr.addEventListener("load", () => {
+      if (xhr.status >= 200 && xhr.status < 300) {
+        try {
+          resolve(parseJson("SceneInfo", JSON.parse(xhr.responseText)));
+        } catch (e) {
+          reject(new ApiError(`the server's answer could not be read: ${e.message}`, xhr.status));
+        }
+      } else {
+        reject(problem(xhr.status, xhr.responseText, `upload refused (HTTP ${xhr.status})`));
+      }
+    });
+    xhr.addEventListener("error", () => reject(new ApiError("the upload failed: cannot reach the server", 0)));
+    xhr.addEventListener("abort", () => reject(new ApiError("the upload was cancelled", 0)));
+    const form = new FormData();
+    form.append("file", file, file.name);
+    xhr.send(form);
+  });
+}
+
+export async function submitJob(init) {
+  return parseJson("Job", await request("POST", "/api/jobs", toJsonBody("JobRequest", init)));
+}
+
+export async function listJobs(offset = 0, limit = 20) {
+  return parseJson("JobList", await request("GET", `/api/jobs?offset=${offset}&limit=${limit}`));
+}
+
+export async function getJob(id) {
+  return parseJson("Job", await request("GET", `/api/jobs/${encodeURIComponent(id)}`));
+}
+
+export async function cancelJob(id) {
+  return parseJson("Job", await request("DELETE", `/api/jobs/${encodeURIComponent(id)}`));
+}
+
+/** Address of a finished job's image: "image" or an auxiliary output's name, .png or .exr. */
+export const jobImageUrl = (jobId, name = "image", ext = "png") =>
+  `/api/jobs/${encodeURIComponent(jobId)}/${name}.${ext}`;
+
+export function tileStreamUrl(jobId) {
+  const scheme = location.protocol === "https:" ? "wss:" : "ws:";
+  return `${scheme}//${location.host}/api/jobs/${encodeURIComponent(jobId)}/tiles`;
+}
+
+export async function debugRay(sceneId, camera, settings, pixel) {
+  const body = toJsonBody("DebugRayRequest", { camera, settings, pixel });
+  return parseJson("DebugPath", await request("POST", `/api/scenes/${encodeURIComponent(sceneId)}/debug-ray`, body));
+}
+
+/** The boxes of one BVH level (level < 0: the leaves). */
+export async function bvhBoxes(sceneId, level) {
+  const query = level < 0 ? "leaves=1" : `level=${level}`;
+  return parseJson("BvhBoxes", await request("GET", `/api/scenes/${encodeURIComponent(sceneId)}/bvh?${query}`));
+}
+
+export async function health() {
+  return request("GET", "/api/health");
+}

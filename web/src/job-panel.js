@@ -1,0 +1,175 @@
+// The current job's progress (bar, tiles done/total, elapsed, time left),
+// cancel and downloads, and the job history with thumbnails.
+import { cancelJob, jobImageUrl, listJobs } from "./api.js";
+import { enumName } from "./proto.js";
+
+const ACTIVE = new Set(["QUEUED", "RUNNING"]);
+
+export function formatSeconds(s) {
+  if (!Number.isFinite(s) || s < 0) return "–";
+  if (s < 60) return `${s.toFixed(s < 10 ? 1 : 0)} s`;
+  const m = Math.floor(s / 60);
+  if (m < 60) return `${m} min ${Math.round(s - m * 60)} s`;
+  return `${Math.floor(m / 60)} h ${m % 60} min`;
+}
+
+export const stateOf = (job) => enumName("JobState", job.state);
+
+export class JobPanel extends EventTarget {
+  constructor(root) {
+    super();
+    this.el = {
+      title: root.querySelector("#job-title"),
+      state: root.querySelector("#job-state"),
+      bar: root.querySelector("#job-progress"),
+      tiles: root.querySelector("#job-tiles"),
+      elapsed: root.querySelector("#job-elapsed"),
+      left: root.querySelector("#job-left"),
+      cancel: root.querySelector("#job-cancel"),
+      downloads: root.querySelector("#job-downloads"),
+      error: root.querySelector("#job-error"),
+      history: root.querySelector("#history-list"),
+      more: root.querySelector("#history-more"),
+    };
+    this.job = null;
+    this.tilesReceived = 0;
+    this.el.cancel.addEventListener("click", () => this._cancel());
+    this.el.more.addEventListener("click", () => this.refreshHistory(this.historyCount + 20));
+    this.historyCount = 20;
+    this._ticker = setInterval(() => this._showTimes(), 250);
+  }
+
+  /** Shows a job record (from a poll, the stream's end, or a submission). */
+  show(job) {
+    this.job = job;
+    const state = stateOf(job);
+    const size = job.request?.settings ? `${job.request.settings.width}×${job.request.settings.height}` : "";
+    this.el.title.textContent = `Job ${job.id}${size ? ` · ${size}` : ""}`;
+    this.el.state.textContent = state.toLowerCase();
+    this.el.state.dataset.state = state;
+    this.el.bar.value = state === "DONE" ? 1 : job.progress;
+    this.el.bar.setAttribute("aria-valuetext", `${Math.round(this.el.bar.value * 100)} percent`);
+    this._showTiles();
+    this.el.cancel.disabled = !ACTIVE.has(state);
+    this.el.error.hidden = !job.error || state === "DONE";
+    this.el.error.textContent = job.error;
+    this._showDownloads(job, state);
+    this._showTimes();
+  }
+
+  /** Tiles received on the stream so far (they may run ahead of the polled record). */
+  setTilesReceived(count) {
+    this.tilesReceived = count;
+    this._showTiles();
+  }
+
+  _showTiles() {
+    const job = this.job;
+    if (!job) return;
+    const total = job.tilesTotal;
+    const done = stateOf(job) === "DONE" ? total : Math.min(Math.max(job.tilesDone, this.tilesReceived), total);
+    this.el.tiles.textContent = total ? `${done} / ${total}` : "–";
+  }
+
+  _showTimes() {
+    const job = this.job;
+    if (!job) return;
+    const state = stateOf(job);
+    const now = Date.now() / 1000;
+    const start = job.startedAt || 0;
+    let elapsed = NaN;
+    if (start) elapsed = (job.finishedAt || (ACTIVE.has(state) ? now : start)) - start;
+    this.el.elapsed.textContent = formatSeconds(elapsed);
+    let left = NaN;
+    if (state === "RUNNING" && job.progress > 0.02 && Number.isFinite(elapsed)) {
+      left = (elapsed * (1 - job.progress)) / job.progress;
+    } else if (state === "DONE") {
+      left = 0;
+    }
+    this.el.left.textContent = state === "QUEUED" ? "waiting for a worker" : formatSeconds(left);
+  }
+
+  _showDownloads(job, state) {
+    const box = this.el.downloads;
+    box.replaceChildren();
+    if (state !== "DONE") return;
+    const links = [["PNG", jobImageUrl(job.id, "image", "png")], ["EXR", jobImageUrl(job.id, "image", "exr")]];
+    for (const output of job.request?.outputs ?? []) {
+      const name = enumName("AuxOutput", output).toLowerCase();
+      links.push([`${name} PNG`, jobImageUrl(job.id, name, "png")]);
+    }
+    for (const [label, href] of links) {
+      const a = document.createElement("a");
+      a.href = href;
+      a.download = `${job.id}-${href.split("/").pop()}`;
+      a.textContent = label;
+      a.className = "button";
+      box.append(a);
+    }
+  }
+
+  async _cancel() {
+    if (!this.job) return;
+    this.el.cancel.disabled = true;
+    try {
+      this.show(await cancelJob(this.job.id));
+    } catch (e) {
+      this.el.error.hidden = false;
+      this.el.error.textContent = `Cancel failed: ${e.message}`;
+    }
+    this.dispatchEvent(new Event("cancelled"));
+  }
+
+  /** Reloads the history list (newest first), `count` entries. */
+  async refreshHistory(count = this.historyCount) {
+    this.historyCount = count;
+    let list;
+    try {
+      list = await listJobs(0, Math.min(count, 200));
+    } catch (e) {
+      this.el.history.replaceChildren(Object.assign(document.createElement("li"), { textContent: `Job history unavailable: ${e.message}` }));
+      return;
+    }
+    const items = list.jobs.map((job) => this._historyItem(job));
+    if (items.length === 0) items.push(Object.assign(document.createElement("li"), { textContent: "No jobs yet.", className: "empty" }));
+    this.el.history.replaceChildren(...items);
+    this.el.more.hidden = list.total <= list.jobs.length;
+  }
+
+  _historyItem(job) {
+    const state = stateOf(job);
+    const li = document.createElement("li");
+    const a = document.createElement("a");
+    a.href = `/jobs/${job.id}`;
+    a.className = "history-item";
+    if (this.job?.id === job.id) a.setAttribute("aria-current", "page");
+    if (state === "DONE") {
+      const img = document.createElement("img");
+      img.src = jobImageUrl(job.id);
+      img.alt = "";
+      img.loading = "lazy";
+      img.width = 64;
+      img.height = 48;
+      a.append(img);
+    } else {
+      const placeholder = document.createElement("span");
+      placeholder.className = "thumb-empty";
+      placeholder.textContent = state.toLowerCase();
+      a.append(placeholder);
+    }
+    const text = document.createElement("span");
+    const s = job.request?.settings;
+    const when = job.createdAt ? new Date(job.createdAt * 1000).toLocaleTimeString() : "";
+    text.innerHTML = `<strong></strong><small></small>`;
+    text.querySelector("strong").textContent = `${s ? `${s.width}×${s.height}` : job.id}`;
+    text.querySelector("small").textContent = `${state.toLowerCase()} · ${when}`;
+    a.append(text);
+    a.addEventListener("click", (e) => {
+      if (e.button !== 0 || e.metaKey || e.ctrlKey || e.shiftKey) return;
+      e.preventDefault();
+      this.dispatchEvent(new CustomEvent("open", { detail: job.id }));
+    });
+    li.append(a);
+    return li;
+  }
+}

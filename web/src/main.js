@@ -1,0 +1,241 @@
+// The viewer's entry: builds the panels and wires them together. Scenes load
+// into the 3D view; "Render this view" submits a job with the view's camera;
+// /jobs/<id> follows a job's tiles; clicking the image traces a pixel.
+import { getJob, getScene, health, modelUrl, submitJob } from "./api.js";
+import { cameraToView, viewToCamera } from "./camera-sync.js";
+import { DebugPanel } from "./debug-panel.js";
+import { ImageLayers } from "./heatmap.js";
+import { JobPanel, stateOf } from "./job-panel.js";
+import { Router } from "./router.js";
+import { ScenesPanel } from "./scenes-panel.js";
+import { SettingsPanel } from "./settings-panel.js";
+import { ImageOverlay, RunningTiles } from "./tile-outlines.js";
+import { TileView } from "./tiles.js";
+import { Viewer } from "./viewer.js";
+
+const $ = (id) => document.getElementById(id);
+const POLL_MS = 500;
+
+const viewer = new Viewer($("viewport"));
+const settings = new SettingsPanel($("render-form"));
+const scenes = new ScenesPanel(document);
+const jobPanel = new JobPanel(document);
+const tiles = new TileView($("image-canvas"));
+const overlay = new ImageOverlay($("image-overlay"));
+const layers = new ImageLayers($("layer-buttons"), $("layer-image"), $("heat-legend"));
+const debug = new DebugPanel(viewer, tiles, overlay);
+const router = new Router();
+const cameraSelect = $("scene-camera");
+
+const state = { scene: null, job: null, poll: null, running: null, sceneLoad: null };
+
+function viewportStatus(text) {
+  $("viewport-status").textContent = text;
+  $("viewport-status").hidden = !text;
+}
+
+// --- the 3D view and the render settings ------------------------------------
+
+viewer.setAspect(settings.aspect);
+settings.addEventListener("aspect", (e) => viewer.setAspect(e.detail));
+settings.addEventListener("fov", (e) => viewer.setFov(e.detail));
+viewer.addEventListener("camerachange", () => settings.showFov(viewer.camera.fov));
+viewer.renderer.domElement.addEventListener("pointerdown", () => { cameraSelect.value = ""; });
+viewer.renderer.domElement.addEventListener("wheel", () => { cameraSelect.value = ""; }, { passive: true });
+settings.showFov(viewer.camera.fov);
+
+function fillCameras(info) {
+  const options = [["", "Free view (orbit)"], ["default", "Default camera (whole scene)"],
+    ...info.cameras.map((c, i) => [`camera-${i}`, `Scene camera: ${c.name || `#${i + 1}`}`])];
+  cameraSelect.replaceChildren(...options.map(([value, label]) => new Option(label, value)));
+}
+
+cameraSelect.addEventListener("change", () => {
+  const info = state.scene;
+  if (!info || !cameraSelect.value) return;
+  const value = cameraSelect.value;
+  const camera = value === "default" ? info.defaultCamera : info.cameras[Number(value.split("-")[1])]?.camera;
+  if (camera) cameraToView(viewer, camera, settings.defaultFov);
+  cameraSelect.value = value;
+});
+
+/** Shows a scene in the 3D view; `camera`: where to look from (default: the scene's). */
+async function selectScene(id, camera = null) {
+  if (state.scene?.id === id) {
+    if (camera) {
+      cameraToView(viewer, camera, settings.defaultFov);
+      cameraSelect.value = "";
+    }
+    return state.scene;
+  }
+  viewportStatus("Loading the scene…");
+  let info;
+  try {
+    info = await getScene(id);
+    state.scene = info;
+    scenes.setSelected(id);
+    $("scene-title").textContent = `${info.name} · ${info.triangleCount.toLocaleString()} triangles`;
+    fillCameras(info);
+    debug.setScene(info);
+    localStorage.setItem("rt.scene", id);
+    const load = viewer.loadScene(modelUrl(id), info);
+    state.sceneLoad = load;
+    cameraToView(viewer, camera ?? info.defaultCamera, settings.defaultFov);
+    cameraSelect.value = camera ? "" : "default";
+    await load;
+    viewportStatus("");
+  } catch (e) {
+    viewportStatus(`The scene could not be shown: ${e.message}`);
+  }
+  return info;
+}
+
+scenes.addEventListener("select", (e) => selectScene(e.detail));
+scenes.addEventListener("deleted", (e) => {
+  if (state.scene?.id !== e.detail) return;
+  state.scene = null;
+  viewer.clearScene();
+  debug.setScene(null);
+  $("scene-title").textContent = "No scene";
+  if (scenes.scenes.length) selectScene(scenes.scenes[0].id);
+});
+
+$("render-form").addEventListener("submit", async (e) => {
+  e.preventDefault();
+  const error = $("render-error");
+  error.textContent = "";
+  if (!state.scene) {
+    error.textContent = "Pick or upload a scene first.";
+    return;
+  }
+  if (!settings.validate()) return;
+  const button = $("render-button");
+  button.disabled = true;
+  try {
+    const job = await submitJob({
+      sceneId: state.scene.id,
+      camera: viewToCamera(viewer),
+      settings: settings.settings(),
+      outputs: settings.outputValues(),
+      interactive: settings.interactive.checked,
+    });
+    router.go(job.id);
+  } catch (err) {
+    error.textContent = `The job was refused: ${err.message}`;
+  } finally {
+    button.disabled = false;
+  }
+});
+
+// --- jobs ---------------------------------------------------------------------
+
+function stopFollowing() {
+  clearInterval(state.poll);
+  state.poll = null;
+  tiles.close();
+  overlay.setRunning([]);
+}
+
+function showJob(job) {
+  state.job = job;
+  jobPanel.show(job);
+  const done = stateOf(job) === "DONE";
+  layers.setJob(job, done);
+  debug.setJob(job);
+  if (!["QUEUED", "RUNNING"].includes(stateOf(job))) {
+    clearInterval(state.poll);
+    state.poll = null;
+    overlay.setRunning([]);
+  }
+}
+
+async function openJob(id) {
+  stopFollowing();
+  let job;
+  try {
+    job = await getJob(id);
+  } catch (e) {
+    state.job = null;
+    $("job-title").textContent = `Job ${id}`;
+    $("job-error").hidden = false;
+    $("job-error").textContent = e.message;
+    return;
+  }
+  $("job-error").hidden = true;
+  const { width, height } = job.request.settings;
+  settings.show(job.request.settings, job.request.outputs, job.request.interactive);
+  await selectScene(job.request.sceneId, job.request.camera);
+  jobPanel.setTilesReceived(0);
+  overlay.resize(width, height);
+  debug.clear();
+  showJob(job);
+  state.running = new RunningTiles();
+  tiles.open(job.id, width, height);
+  if (["QUEUED", "RUNNING"].includes(stateOf(job))) {
+    state.poll = setInterval(async () => {
+      try {
+        const fresh = await getJob(id);
+        if (state.job?.id === id && state.poll) showJob(fresh);
+      } catch {
+        // the stream's end carries the final record anyway
+      }
+    }, POLL_MS);
+  }
+  jobPanel.refreshHistory();
+}
+
+tiles.addEventListener("started", (e) => {
+  state.running?.started(e.detail);
+  overlay.setRunning(state.running?.running() ?? []);
+});
+tiles.addEventListener("tiles", (e) => {
+  jobPanel.setTilesReceived(e.detail.received);
+  state.running?.finish(e.detail.tiles);
+  overlay.setRunning(state.running?.running() ?? []);
+});
+tiles.addEventListener("end", (e) => {
+  overlay.setRunning([]);
+  showJob(e.detail);
+  jobPanel.refreshHistory();
+});
+tiles.addEventListener("streamerror", (e) => {
+  $("job-error").hidden = false;
+  $("job-error").textContent = `Tile stream: ${e.detail}`;
+});
+jobPanel.addEventListener("open", (e) => router.go(e.detail));
+jobPanel.addEventListener("cancelled", () => jobPanel.refreshHistory());
+layers.addEventListener("error", (e) => {
+  $("job-error").hidden = false;
+  $("job-error").textContent = e.detail;
+});
+
+router.addEventListener("route", (e) => {
+  if (e.detail.jobId) openJob(e.detail.jobId);
+  else stopFollowing();
+});
+
+// --- start ----------------------------------------------------------------------
+
+async function start() {
+  try {
+    const h = await health();
+    $("server-status").textContent = `${h.status} · ${h.workers} workers, ${h.threads} threads`;
+    $("server-status").dataset.kind = h.status === "ok" ? "ok" : "error";
+  } catch (e) {
+    $("server-status").textContent = `server unreachable: ${e.message}`;
+    $("server-status").dataset.kind = "error";
+  }
+  const list = await scenes.refresh();
+  jobPanel.refreshHistory();
+  if (router.jobId) {
+    router.start();
+  } else {
+    const remembered = localStorage.getItem("rt.scene");
+    const pick = list.find((s) => s.id === remembered) ?? list[0];
+    if (pick) await selectScene(pick.id);
+  }
+}
+
+// For the console and the browser tests: the live objects, read-only by convention.
+window.rt = { viewer, settings, scenes, jobPanel, tiles, overlay, layers, debug, router, state };
+start();
