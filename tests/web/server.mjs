@@ -20,12 +20,12 @@ function freePort() {
   });
 }
 
-async function waitForHealth(url, child, log, timeoutMs) {
+async function waitForHealth(url, child, log, timeoutMs, headers) {
   const deadline = Date.now() + timeoutMs;
   while (Date.now() < deadline) {
     if (child.exitCode !== null) throw new Error(`the server exited with ${child.exitCode}; see ${log}`);
     try {
-      const response = await fetch(`${url}/api/health`);
+      const response = await fetch(`${url}/api/health`, { headers });
       if (response.ok) return response.json();
     } catch {
       // not listening yet
@@ -35,7 +35,8 @@ async function waitForHealth(url, child, log, timeoutMs) {
   throw new Error(`the server did not answer /api/health within ${timeoutMs / 1000} s; see ${log}`);
 }
 
-export async function startServer({ artifacts, timeoutMs = 90_000 } = {}) {
+// token: start it with RT_API_TOKEN; samples: false starts it without the sample scenes.
+export async function startServer({ artifacts, timeoutMs = 90_000, token = "", samples: withSamples = true, name = "server" } = {}) {
   // RT_WEB_TEST_URL: test a server that is already running (left as it is after).
   if (process.env.RT_WEB_TEST_URL) {
     const url = process.env.RT_WEB_TEST_URL.replace(/\/$/, "");
@@ -50,7 +51,7 @@ export async function startServer({ artifacts, timeoutMs = 90_000 } = {}) {
   }
   const port = await freePort();
   const dataDir = mkdtempSync(join(tmpdir(), "rt-web-test-"));
-  const log = join(artifacts, "server.log");
+  const log = join(artifacts, `${name}.log`);
   const out = createWriteStream(log);
   const child = spawn(python, ["-m", "app"], {
     cwd: ROOT,
@@ -60,8 +61,9 @@ export async function startServer({ artifacts, timeoutMs = 90_000 } = {}) {
       HOST: "127.0.0.1",
       PORT: String(port),
       RT_DATA_DIR: dataDir,
-      RT_SAMPLES_DIR: samples,
+      RT_SAMPLES_DIR: withSamples ? samples : "",
       RT_WEB_DIR: web,
+      RT_API_TOKEN: token,
     },
     stdio: ["ignore", "pipe", "pipe"],
   });
@@ -79,7 +81,7 @@ export async function startServer({ artifacts, timeoutMs = 90_000 } = {}) {
     rmSync(dataDir, { recursive: true, force: true });
   };
   try {
-    const health = await waitForHealth(url, child, log, timeoutMs);
+    const health = await waitForHealth(url, child, log, timeoutMs, token ? { Authorization: `Bearer ${token}` } : {});
     return { url, port, dataDir, health, stop, log };
   } catch (e) {
     await stop();

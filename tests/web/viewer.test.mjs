@@ -379,3 +379,39 @@ describe("rt viewer", { timeout: 170_000 }, () => {
     assert.deepEqual(page.problems, []);
   });
 });
+
+describe("rt viewer on a server with RT_API_TOKEN", { timeout: 90_000 }, () => {
+  const TOKEN = "browser-test-token";
+  let guarded;
+  let guardedBrowser;
+
+  before(async () => {
+    guarded = await startServer({ artifacts: ARTIFACTS, token: TOKEN, samples: false, name: "server-token" });
+    guardedBrowser = await launch();
+  });
+
+  after(async () => {
+    await guardedBrowser?.close();
+    await guarded?.stop();
+  });
+
+  test("the viewer asks for the token once, then lists, uploads and streams with it", async () => {
+    const tab = await openPage(guardedBrowser, guarded.url);
+    const asked = [];
+    tab.on("dialog", async (dialog) => {
+      asked.push(dialog.message());
+      await dialog.accept(TOKEN);
+    });
+    await tab.goto(guarded.url);
+    await tab.waitForFunction(() => document.querySelector("#server-status")?.textContent.startsWith("ok"), null,
+      { timeout: 30_000 });
+    assert.equal(asked.length, 1, "asked once");
+    assert.match(asked[0], /token/);
+    await tab.setInputFiles("#scene-file", join(SCENES, "teapot.glb"));
+    await tab.waitForFunction(() => [...document.querySelectorAll("#scene-list button")].some((b) => b.textContent.includes("teapot.glb")),
+      null, { timeout: 30_000 });
+    assert.equal(await tab.evaluate(() => localStorage.getItem("rt-api-token")), TOKEN);
+    await screenshot(tab, "12-token-server");
+    await tab.close();
+  });
+});

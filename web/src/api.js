@@ -1,6 +1,27 @@
 // The job service's REST API. Answers are parsed into the generated messages;
 // a refused request throws an ApiError carrying the server's own words.
+// A server started with RT_API_TOKEN answers 401 until the viewer sends the
+// token: the user is asked for it once, and it is kept in this browser.
 import { parseJson, toJsonBody } from "./proto.js";
+
+const TOKEN_KEY = "rt-api-token";
+let token = localStorage.getItem(TOKEN_KEY) ?? "";
+
+const authHeaders = () => (token ? { Authorization: `Bearer ${token}` } : {});
+
+/** `path` with the token as a query parameter, for what cannot send headers (links, images, WebSockets). */
+function withToken(path) {
+  return token ? `${path}${path.includes("?") ? "&" : "?"}token=${encodeURIComponent(token)}` : path;
+}
+
+/** Asks the user for the server's token after a 401; true when one was given. */
+function askForToken(message) {
+  const given = window.prompt(`${message}\nEnter this server's API token:`, "");
+  if (!given) return false;
+  token = given.trim();
+  localStorage.setItem(TOKEN_KEY, token);
+  return true;
+}
 
 export class ApiError extends Error {
   constructor(message, status) {
@@ -20,16 +41,21 @@ function problem(status, body, fallback) {
   return new ApiError(detail, status);
 }
 
-async function request(method, path, body) {
+async function request(method, path, body, retried = false) {
   let response;
   try {
     response = await fetch(path, {
       method,
-      headers: body === undefined ? {} : { "Content-Type": "application/json" },
+      headers: { ...authHeaders(), ...(body === undefined ? {} : { "Content-Type": "application/json" }) },
       body: body === undefined ? undefined : JSON.stringify(body),
     });
   } catch (e) {
     throw new ApiError(`cannot reach the server (${e.message})`, 0);
+  }
+  if (response.status === 401 && !retried) {
+    const refused = problem(401, await response.text(), "this server needs an API token");
+    if (askForToken(refused.message)) return request(method, path, body, true);
+    throw refused;
   }
   if (!response.ok) {
     throw problem(response.status, await response.text(), `${method} ${path}: HTTP ${response.status}`);
@@ -49,7 +75,7 @@ export function deleteScene(id) {
   return request("DELETE", `/api/scenes/${encodeURIComponent(id)}`);
 }
 
-export const modelUrl = (sceneId) => `/api/scenes/${encodeURIComponent(sceneId)}/model.glb`;
+export const modelUrl = (sceneId) => withToken(`/api/scenes/${encodeURIComponent(sceneId)}/model.glb`);
 
 /**
  * Uploads a scene file; onProgress(fraction) follows the bytes sent. Resolves
@@ -59,6 +85,7 @@ export function uploadScene(file, onProgress = () => {}) {
   return new Promise((resolve, reject) => {
     const xhr = new XMLHttpRequest();
     xhr.open("POST", "/api/scenes");
+    for (const [name, value] of Object.entries(authHeaders())) xhr.setRequestHeader(name, value);
     xhr.responseType = "text";
     xhr.upload.addEventListener("progress", (e) => {
       if (e.lengthComputable) onProgress(e.loaded / e.total);
@@ -100,11 +127,11 @@ export async function cancelJob(id) {
 
 /** Address of a finished job's image: "image" or an auxiliary output's name, .png or .exr. */
 export const jobImageUrl = (jobId, name = "image", ext = "png") =>
-  `/api/jobs/${encodeURIComponent(jobId)}/${name}.${ext}`;
+  withToken(`/api/jobs/${encodeURIComponent(jobId)}/${name}.${ext}`);
 
 export function tileStreamUrl(jobId) {
   const scheme = location.protocol === "https:" ? "wss:" : "ws:";
-  return `${scheme}//${location.host}/api/jobs/${encodeURIComponent(jobId)}/tiles`;
+  return `${scheme}//${location.host}${withToken(`/api/jobs/${encodeURIComponent(jobId)}/tiles`)}`;
 }
 
 export async function debugRay(sceneId, camera, settings, pixel) {
