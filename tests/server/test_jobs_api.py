@@ -149,3 +149,12 @@ def test_unknown_job_stream_is_closed_with_a_reason(client):
         with pytest.raises(WebSocketDisconnect) as closed:
             ws.receive_bytes()
     assert closed.value.code == 4404
+
+
+def test_the_heat_map_legend_is_the_ramp_of_bvh_cost_png(client):
+    response = client.get("/api/jobs/legends/bvh_cost.png")
+    assert response.status_code == 200 and response.headers["content-type"] == "image/png"
+    ramp = np.asarray(Image.open(io.BytesIO(response.content)).convert("RGB"))[0]
+    assert tuple(ramp[0]) == (0, 0, 0) and tuple(ramp[-1]) == (255, 255, 255)
+    brightness = ramp.astype(int).sum(axis=1)
+    assert (np.diff(brightness) >= -2).all(), "the ramp brightens from low to high cost"

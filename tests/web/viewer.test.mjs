@@ -185,6 +185,7 @@ describe("rt viewer", { timeout: 170_000 }, () => {
       return !img.hidden && img.complete && img.naturalWidth === 1600;
     }, null, "the BVH cost heat map");
     assert.ok(await page.isVisible("#heat-legend"));
+    await waitIn(() => document.querySelector("#heat-legend img.ramp").naturalWidth === 256, null, "the server's heat ramp");
     await screenshot(page, "bvh-cost-heatmap");
     await page.click('#layer-buttons button[data-layer="image"]');
     assert.ok(await page.isHidden("#layer-image"));

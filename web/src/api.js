@@ -129,6 +129,9 @@ export async function cancelJob(id) {
 export const jobImageUrl = (jobId, name = "image", ext = "png") =>
   withToken(`/api/jobs/${encodeURIComponent(jobId)}/${name}.${ext}`);
 
+/** The colour ramp of the BVH cost heat map, low to high, as the server draws it. */
+export const heatRampUrl = () => withToken("/api/jobs/legends/bvh_cost.png");
+
 export function tileStreamUrl(jobId) {
   const scheme = location.protocol === "https:" ? "wss:" : "ws:";
   return `${scheme}//${location.host}${withToken(`/api/jobs/${encodeURIComponent(jobId)}/tiles`)}`;

@@ -1,7 +1,7 @@
 // What the image panel shows: the streamed colour image, or one of a finished
 // job's auxiliary outputs; "BVH cost" is the server's heat map of BVH nodes
 // visited per pixel, where rays are expensive.
-import { jobImageUrl } from "./api.js";
+import { heatRampUrl, jobImageUrl } from "./api.js";
 import { enumChoices, enumName } from "./proto.js";
 import { labelOf } from "./settings-panel.js";
 
@@ -55,6 +55,8 @@ export class ImageLayers extends EventTarget {
       this.image.alt = `${name.replace("_", " ")} output of job ${this.job.id}`;
     }
     this.legend.hidden = name !== "bvh_cost";
+    const ramp = this.legend.querySelector("img.ramp");
+    if (!this.legend.hidden && !ramp.getAttribute("src")) ramp.src = heatRampUrl();
     this.dispatchEvent(new CustomEvent("layer", { detail: name }));
   }
 }

@@ -43,6 +43,12 @@ def _heat(values: np.ndarray) -> np.ndarray:
     return (stops[i] * (1 - f) + stops[i + 1] * f + 0.5).astype(np.uint8)
 
 
+def heat_ramp_png(width: int = 256) -> bytes:
+    """The heat ramp of bvh_cost.png from low to high, for the viewer's legend."""
+    rgb = np.repeat(_heat(np.linspace(0, 1, width, dtype=np.float32))[None], 8, axis=0)
+    return png_bytes(np.concatenate([rgb, np.full((8, width, 1), 255, np.uint8)], axis=2))
+
+
 def aux_preview(name: str, layer: np.ndarray) -> np.ndarray:
     """An auxiliary layer as an RGBA8 picture: depth near-bright, normals as
     colour, albedo in sRGB, BVH cost (nodes visited) as a heat map."""

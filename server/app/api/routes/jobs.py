@@ -7,19 +7,20 @@ import asyncio
 
 import numpy as np
 from fastapi import APIRouter, Depends, HTTPException, Query, Request, WebSocket, WebSocketDisconnect
-from fastapi.responses import FileResponse
+from fastapi.responses import FileResponse, Response
 from PIL import Image
 from rt import job_pb2
 
 from ...core.proto import json_body, json_response, parse
 from ...core.security import is_authorized
-from ...services.job_image import AUX_CHANNELS
+from ...services.job_image import AUX_CHANNELS, heat_ramp_png
 from ...services.jobs import FINAL_STATES, JobError, JobManager, final_image_stream
 from ..deps import jobs, proto_json
 
 router = APIRouter(prefix="/api/jobs", tags=["jobs"])
 
 IMAGE_NAMES = ("image",) + tuple(AUX_CHANNELS)
+HEAT_RAMP_PNG = heat_ramp_png()
 
 
 def job_or_404(manager: JobManager, job_id: str) -> job_pb2.Job:
@@ -48,6 +49,12 @@ def list_jobs(offset: int = Query(0, ge=0), limit: int = Query(20, ge=1, le=200)
               manager: JobManager = Depends(jobs)):
     page, total = manager.page(offset, limit)
     return proto_json(job_pb2.JobList(jobs=page, total=total, offset=offset))
+
+
+@router.get("/legends/bvh_cost.png", response_class=Response,
+            responses={200: {"content": {"image/png": {}}, "description": "The colour ramp of bvh_cost.png, low to high"}})
+def bvh_cost_legend():
+    return Response(HEAT_RAMP_PNG, media_type="image/png", headers={"Cache-Control": "max-age=86400"})
 
 
 @router.get("/{job_id}", responses={200: json_response(job_pb2.Job, "The job")})
