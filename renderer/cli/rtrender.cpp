@@ -57,6 +57,19 @@ std::string flag_name(const FieldDescriptor* field) {
     return "--" + name;
 }
 
+std::string lower(std::string text) {
+    for (char& c : text) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return text;
+}
+
+// An enum setting's values in lower case, the default (the proto3 zero) first.
+std::string enum_choices(const FieldDescriptor* field) {
+    std::string names;
+    for (int i = 0; i < field->enum_type()->value_count(); ++i)
+        names += (names.empty() ? "" : ", ") + lower(field->enum_type()->value(i)->name());
+    return names;
+}
+
 void print_help() {
     std::cout <<
         "usage: rtrender SCENE -o OUT.png|OUT.exr [options]\n"
@@ -82,12 +95,15 @@ void print_help() {
     for (int i = 0; i < descriptor->field_count(); ++i) {
         const FieldDescriptor* field = descriptor->field(i);
         const rt::Limits& limits = field->options().GetExtension(rt::limits);
-        std::ostringstream line;
-        line << "  " << flag_name(field) << " N";
-        std::string text = line.str();
+        const bool is_enum = field->cpp_type() == FieldDescriptor::CPPTYPE_ENUM;
+        std::string text = "  " + flag_name(field) + (is_enum ? " NAME" : " N");
         text.resize(std::max<size_t>(text.size() + 1, 27), ' ');
-        std::cout << text << "default " << limits.default_() << ", " << limits.min() << " to " << limits.max()
-                  << "\n";
+        if (is_enum)
+            std::cout << text << enum_choices(field) << " (default " << lower(field->enum_type()->value(0)->name())
+                      << ")\n";
+        else
+            std::cout << text << "default " << limits.default_() << ", " << limits.min() << " to " << limits.max()
+                      << "\n";
     }
     std::cout << "\nexit status: 0 success, 1 the scene or image failed, 2 bad arguments\n";
 }
@@ -116,9 +132,7 @@ std::vector<rt::AuxOutput> parse_aux_list(const std::string& text) {
 }
 
 bool has_extension(const std::string& file, const std::string& extension) {
-    std::string lower = std::filesystem::path(file).extension().string();
-    for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return lower == extension;
+    return lower(std::filesystem::path(file).extension().string()) == extension;
 }
 
 void set_setting_flag(rt::RenderSettings& settings, const FieldDescriptor* field, const std::string& text) {
@@ -134,6 +148,14 @@ void set_setting_flag(rt::RenderSettings& settings, const FieldDescriptor* field
         case FieldDescriptor::CPPTYPE_FLOAT:
             reflection->SetFloat(&settings, field, parse_number<float>(flag, text));
             break;
+        case FieldDescriptor::CPPTYPE_ENUM: {
+            std::string upper = text;
+            for (char& c : upper) c = char(std::toupper(static_cast<unsigned char>(c)));
+            const auto* value = field->enum_type()->FindValueByName(upper);
+            if (!value) throw UsageError(flag + ": '" + text + "' is not one of " + enum_choices(field));
+            reflection->SetEnum(&settings, field, value);
+            break;
+        }
         default:
             throw UsageError(flag + ": unsupported setting type");
     }
@@ -278,7 +300,7 @@ int run(const Options& options) {
     }
 
     ProgressBar bar(!options.quiet);
-    rt::RayCounts counts;
+    rt::RenderStats counts;
     rt::AuxImage aux(renderer.settings().width(), renderer.settings().height(), options.aux);
     const auto start = std::chrono::steady_clock::now();
     const rt::Image image = renderer.render(options.threads, options.tile_size,
@@ -289,10 +311,11 @@ int run(const Options& options) {
 
     const auto& stats = accel.stats();
     std::printf("rtrender: %zu triangles, %zu spheres, BVH %zu nodes depth %u, build %.1f ms, "
-                "render %.1f ms, %.2f Mrays/s (%llu rays) -> %s\n",
+                "render %.1f ms, %.2f Mrays/s (%llu rays), %.1f samples/pixel -> %s\n",
                 stats.triangles, scene.spheres.size(), stats.nodes, stats.depth, stats.build_ms, render_ms,
-                double(counts.total()) / (render_ms * 1e3), static_cast<unsigned long long>(counts.total()),
-                options.output.c_str());
+                double(counts.rays.total()) / (render_ms * 1e3),
+                static_cast<unsigned long long>(counts.rays.total()),
+                double(counts.samples) / (double(image.width) * image.height), options.output.c_str());
     return 0;
 }
 

@@ -76,6 +76,8 @@ NB_MODULE(rtcore, m) {
         .def_prop_ro("bvh_stats", &PyScene::bvh_stats)
         .def("to_glb", &PyScene::to_glb,
              "The scene as the renderer sees it, as binary glTF 2.0 (GLB) bytes, for the viewer (GIL released).")
+        .def("check", &PyScene::check, "camera"_a, "settings"_a,
+             "Raises ValueError naming what the renderer refuses in the camera or settings; renders nothing.")
         .def("render_tile", &PyScene::render_tile, "camera"_a, "settings"_a, "x"_a, "y"_a, "width"_a, "height"_a,
              nb::kw_only(), "aux"_a = nb::none(), "scale"_a = 1,
              "Renders one tile on the calling thread (GIL released): float32 array (height, width, 3), linear RGB.\n\n"
@@ -84,7 +86,8 @@ NB_MODULE(rtcore, m) {
              "aux=[...] (names 'depth', 'normal', 'albedo', 'bvh_cost' or rt.AuxOutput values) returns a dict "
              "instead: 'color', each layer asked for ('depth' (h, w) float32, 0 on a miss; 'normal' and "
              "'albedo' (h, w, 3) float32, zeros on a miss; 'bvh_cost' (h, w, 2) uint32: BVH nodes visited and "
-             "triangles tested over all the pixel's rays) and 'rays', the rays traced.")
+             "triangles tested over all the pixel's rays), 'rays', the rays traced, and 'samples', the camera samples "
+             "taken (samples_per_pixel per pixel, fewer where adaptive sampling stopped early).")
         .def("render", &PyScene::render, "camera"_a, "settings"_a, "threads"_a = 0, "tile_size"_a = 32,
              "Renders the whole image on `threads` threads: float32 array (height, width, 3), linear RGB.")
         .def("intersect", &PyScene::intersect, "origins"_a, "directions"_a, "t_max"_a = nb::none(),

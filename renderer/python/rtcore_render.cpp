@@ -41,10 +41,10 @@ nb::object PyScene::render_tile(nb::handle camera, nb::handle settings, uint32_t
     const size_t w = rt::preview_extent(width, scale), h = rt::preview_extent(height, scale);
     std::vector<float> rgb(w * h * 3);
     rt::AuxImage layers(uint32_t(w), uint32_t(h), outputs);
-    rt::RayCounts counts;
+    rt::RenderStats stats;
     {
         nb::gil_scoped_release release;
-        counts = renderer.render_tile(tile, rgb.data(), layers.layers(), scale);
+        stats = renderer.render_tile(tile, rgb.data(), layers.layers(), scale);
     }
     auto color = to_numpy(std::move(rgb), {h, w, 3});
     if (aux.is_none()) return nb::cast(color);
@@ -60,8 +60,15 @@ nb::object PyScene::render_tile(nb::handle camera, nb::handle settings, uint32_t
             default: result[key.c_str()] = to_numpy(std::move(layers.bvh_cost), {h, w, 2}); break;
         }
     }
-    result["rays"] = counts.total();
+    result["rays"] = stats.rays.total();
+    result["samples"] = stats.samples;
     return result;
+}
+
+void PyScene::check(nb::handle camera, nb::handle settings) const {
+    // Constructing the renderer is what checks them: limits, camera, filter.
+    const rt::Renderer renderer(*accel_, read_message<rt::RenderSettings>(settings, "settings"),
+                                read_message<rt::Camera>(camera, "camera"));
 }
 
 nb::ndarray<nb::numpy, float> PyScene::render(nb::handle camera, nb::handle settings, unsigned threads,
@@ -71,8 +78,8 @@ nb::ndarray<nb::numpy, float> PyScene::render(nb::handle camera, nb::handle sett
     rt::Image image;
     {
         nb::gil_scoped_release release;
-        rt::RayCounts counts;
-        image = renderer.render(threads, tile_size, nullptr, counts);
+        rt::RenderStats stats;
+        image = renderer.render(threads, tile_size, nullptr, stats);
     }
     const size_t w = image.width, h = image.height;
     return to_numpy(std::move(image.rgb), {h, w, 3});

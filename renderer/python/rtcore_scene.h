@@ -39,6 +39,10 @@ class PyScene {
     // The scene as GLB bytes (glb_export.h).
     nb::bytes to_glb() const;
 
+    // Throws ValueError naming what the renderer refuses in this camera and
+    // these settings, without rendering anything.
+    void check(nb::handle camera, nb::handle settings) const;
+
     // The colour array, or with `aux` (a list of names or rt.AuxOutput values)
     // a dict of the colour, the layers asked for and the rays traced.
     nb::object render_tile(nb::handle camera, nb::handle settings, uint32_t x, uint32_t y, uint32_t width,

@@ -66,6 +66,29 @@ void AuxLayers::store(size_t index, const AuxSample& sample) const {
     }
 }
 
+void AuxPixel::add(const AuxSample& sample) {
+    if (count_++ == 0) {
+        sum_ = sample;  // a lone sample stays exactly itself (sums would turn -0 into +0)
+        return;
+    }
+    sum_.depth += sample.depth;
+    sum_.normal += sample.normal;
+    sum_.albedo += sample.albedo;
+    sum_.cost.nodes_visited += sample.cost.nodes_visited;
+    sum_.cost.triangles_tested += sample.cost.triangles_tested;
+}
+
+AuxSample AuxPixel::mean() const {
+    AuxSample mean = sum_;
+    if (count_ > 1) {
+        const float scale = 1.0f / float(count_);
+        mean.depth *= scale;
+        mean.normal *= scale;
+        mean.albedo *= scale;
+    }
+    return mean;
+}
+
 AuxImage::AuxImage(uint32_t w, uint32_t h, const std::vector<AuxOutput>& outputs) : width(w), height(h) {
     const size_t pixels = size_t(w) * h;
     for (AuxOutput output : outputs) {

@@ -1,6 +1,7 @@
 // Auxiliary outputs (AOVs), what the job service calls rt.AuxOutput: per pixel,
-// besides colour, the depth, normal and albedo at the primary hit and the BVH
-// traversal cost of every ray the pixel traced. A render computes them only for
+// besides colour, the depth, normal and albedo at the primary hit (averaged
+// over the pixel's samples) and the BVH traversal cost of every ray the pixel
+// traced. A render computes them only for
 // the layers it is asked for, so the colour path never pays for them.
 #pragma once
 
@@ -39,6 +40,19 @@ struct AuxSample {
     vec3 normal{0.0f};    // shading normal there, facing the camera, as shading used it
     vec3 albedo{0.0f};    // diffuse colour there, its texture applied
     TraversalStats cost;  // summed over the primary, reflection and shadow rays
+};
+
+// A pixel's samples together: depth, normal and albedo averaged, as colour is
+// (as pbrt-v4's G-buffer film does, so a denoiser sees them filtered alike);
+// costs summed, as they count the work of every ray of the pixel.
+class AuxPixel {
+  public:
+    void add(const AuxSample& sample);
+    AuxSample mean() const;
+
+  private:
+    AuxSample sum_;
+    uint32_t count_ = 0;
 };
 
 // Where a render writes each layer, pixel after pixel as it writes colour. A

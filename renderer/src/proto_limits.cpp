@@ -86,6 +86,15 @@ void check_value(std::string_view path, double v, const FieldDescriptor* field, 
         fail(path, format_number(v) + " is above the maximum " + format_number(limits.max()));
 }
 
+// Proto3 enums are open: binary input can carry numbers the schema never named.
+void check_enum(std::string_view path, int value, const FieldDescriptor* field) {
+    const auto* type = field->enum_type();
+    if (type->FindValueByNumber(value)) return;
+    std::string names;
+    for (int i = 0; i < type->value_count(); ++i) names += (i ? ", " : "") + type->value(i)->name();
+    fail(path, std::to_string(value) + " is not one of " + names);
+}
+
 }  // namespace
 
 void apply_limits(Message& message, std::string_view path) {
@@ -106,6 +115,8 @@ void apply_limits(Message& message, std::string_view path) {
                 const std::string element = field_path + "[" + std::to_string(k) + "]";
                 if (field->cpp_type() == FieldDescriptor::CPPTYPE_MESSAGE)
                     apply_limits(*reflection->MutableRepeatedMessage(&message, field, k), element);
+                else if (field->cpp_type() == FieldDescriptor::CPPTYPE_ENUM)
+                    check_enum(element, reflection->GetRepeatedEnumValue(message, field, k), field);
                 else if (is_numeric(field))
                     check_value(element, get_number(message, reflection, field, k), field, limits);
             }
@@ -122,6 +133,8 @@ void apply_limits(Message& message, std::string_view path) {
         }
         if (field->cpp_type() == FieldDescriptor::CPPTYPE_MESSAGE)
             apply_limits(*reflection->MutableMessage(&message, field), field_path);
+        else if (field->cpp_type() == FieldDescriptor::CPPTYPE_ENUM)
+            check_enum(field_path, reflection->GetEnumValue(message, field), field);
         else if (is_numeric(field))
             check_value(field_path, get_number(message, reflection, field, -1), field, limits);
     }

@@ -10,8 +10,10 @@
 namespace rt {
 
 // Fills absent optional fields that declare a default, then checks every field
-// and sub-message against its limits. Throws std::invalid_argument naming the
-// field path, e.g. "settings.width: 0 is below the minimum 1".
+// and sub-message against its limits, and every enum against the values its
+// type names (an absent enum field is its zero value, the default). Throws
+// std::invalid_argument naming the field path, e.g. "settings.width: 0 is
+// below the minimum 1".
 void apply_limits(google::protobuf::Message& message, std::string_view path);
 
 // Parses the JSON form of a message (unknown fields are an error), then applies

@@ -34,12 +34,31 @@ Renderer::Renderer(const Accelerator& accel, RenderSettings settings, Camera cam
     : settings_(checked(std::move(settings))),
       camera_(checked(std::move(camera))),
       pinhole_(camera_, settings_.width(), settings_.height()),
+      film_(settings_),
+      stopping_(settings_.adaptive_threshold(), settings_.samples_per_pixel()),
       integrator_(accel, settings_) {}
 
 uint32_t Renderer::pixel_key(uint32_t x, uint32_t y) { return hash_combine(mix_bits(x), y); }
 
-Ray Renderer::camera_ray(uint32_t x, uint32_t y) const {
-    return pinhole_.generate_ray(float(x) + 0.5f, float(y) + 0.5f);
+template <class Trace>
+vec3 Renderer::estimate_pixel(uint32_t x, uint32_t y, uint64_t& samples, Trace&& trace) const {
+    const uint32_t key = pixel_key(x, y);
+    const uint32_t count = settings_.samples_per_pixel();
+    if (count == 1) {
+        // A lone sample goes through the centre, whatever the filter: the image
+        // of before samples_per_pixel existed, with nothing to place or average.
+        ++samples;
+        return trace(pinhole_.generate_ray(float(x) + 0.5f, float(y) + 0.5f), PixelSampler(key, 0));
+    }
+    PixelEstimate estimate;
+    for (uint32_t i = 0; i < count; ++i) {
+        const PixelSampler sampler(key, i);
+        const vec2 offset = film_.offset(sampler);
+        estimate.add(trace(pinhole_.generate_ray(float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y), sampler));
+        if (stopping_.done(estimate)) break;
+    }
+    samples += estimate.count();
+    return estimate.mean();
 }
 
 void Renderer::check_tile(const TileRect& tile, uint32_t scale) const {
@@ -52,14 +71,14 @@ void Renderer::check_tile(const TileRect& tile, uint32_t scale) const {
     if (scale == 0) throw std::invalid_argument("scale must be at least 1");
 }
 
-RayCounts Renderer::render_tile(const TileRect& tile, float* rgb, const AuxLayers& aux, uint32_t scale) const {
+RenderStats Renderer::render_tile(const TileRect& tile, float* rgb, const AuxLayers& aux, uint32_t scale) const {
     check_tile(tile, scale);
     return render_pixels(tile, scale, rgb, aux, preview_extent(tile.width, scale));
 }
 
-RayCounts Renderer::render_pixels(const TileRect& tile, uint32_t scale, float* rgb, const AuxLayers& aux,
-                                  size_t row_pixels) const {
-    RayCounts counts;
+RenderStats Renderer::render_pixels(const TileRect& tile, uint32_t scale, float* rgb, const AuxLayers& aux,
+                                    size_t row_pixels) const {
+    RenderStats stats;
     const uint32_t rows = preview_extent(tile.height, scale), columns = preview_extent(tile.width, scale);
     for (uint32_t j = 0; j < rows; ++j) {
         for (uint32_t i = 0; i < columns; ++i) {
@@ -68,11 +87,18 @@ RayCounts Renderer::render_pixels(const TileRect& tile, uint32_t scale, float* r
             vec3 c;
             // One test per pixel keeps the colour-only path free of the outputs' work.
             if (aux.empty()) {
-                c = integrator_.radiance(camera_ray(x, y), pixel_key(x, y), counts);
+                c = estimate_pixel(x, y, stats.samples, [&](const Ray& ray, const PixelSampler& sampler) {
+                    return integrator_.radiance(ray, sampler, stats.rays);
+                });
             } else {
-                AuxSample sample;
-                c = integrator_.radiance(camera_ray(x, y), pixel_key(x, y), counts, sample);
-                aux.store(index, sample);
+                AuxPixel pixel;
+                c = estimate_pixel(x, y, stats.samples, [&](const Ray& ray, const PixelSampler& sampler) {
+                    AuxSample sample;
+                    const vec3 radiance = integrator_.radiance(ray, sampler, stats.rays, sample);
+                    pixel.add(sample);
+                    return radiance;
+                });
+                aux.store(index, pixel.mean());
             }
             float* out = rgb + index * 3;
             out[0] = c.r;
@@ -80,10 +106,10 @@ RayCounts Renderer::render_pixels(const TileRect& tile, uint32_t scale, float* r
             out[2] = c.b;
         }
     }
-    return counts;
+    return stats;
 }
 
-Image Renderer::render(unsigned threads, uint32_t tile_size, const ProgressCallback& progress, RayCounts& counts,
+Image Renderer::render(unsigned threads, uint32_t tile_size, const ProgressCallback& progress, RenderStats& stats,
                        AuxImage* aux) const {
     if (tile_size == 0) throw std::invalid_argument("tile size must be at least 1");
     const uint32_t width = settings_.width(), height = settings_.height();
@@ -99,10 +125,10 @@ Image Renderer::render(unsigned threads, uint32_t tile_size, const ProgressCallb
             tiles.push_back({x, y, std::min(tile_size, width - x), std::min(tile_size, height - y)});
 
     std::atomic<size_t> next{0};
-    std::mutex mutex;  // guards counts, done and the progress callback
+    std::mutex mutex;  // guards stats, done and the progress callback
     size_t done = 0;
     auto work = [&] {
-        RayCounts local;
+        RenderStats local;
         for (size_t index; (index = next.fetch_add(1)) < tiles.size();) {
             // Tiles write straight into the image: their pixels never overlap.
             const TileRect& tile = tiles[index];
@@ -113,7 +139,7 @@ Image Renderer::render(unsigned threads, uint32_t tile_size, const ProgressCallb
             if (progress) progress(done, tiles.size());
         }
         std::lock_guard lock(mutex);
-        counts += local;
+        stats += local;
     };
     std::vector<std::thread> pool;
     const unsigned n = std::min<size_t>(resolve_thread_count(threads), tiles.size());
@@ -131,7 +157,14 @@ DebugPath Renderer::debug_pixel(uint32_t x, uint32_t y) const {
     DebugPath path;
     path.set_pixel_x(x);
     path.set_pixel_y(y);
-    integrator_.radiance(camera_ray(x, y), pixel_key(x, y), path);
+    uint64_t samples = 0;
+    const vec3 color = estimate_pixel(x, y, samples, [&](const Ray& ray, const PixelSampler& sampler) {
+        return integrator_.radiance(ray, sampler, path);
+    });
+    path.clear_color();
+    path.add_color(color.r);
+    path.add_color(color.g);
+    path.add_color(color.b);
     return path;
 }
 

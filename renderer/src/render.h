@@ -1,5 +1,7 @@
 // Rendering an image, or any tile of it, on all cores. A pixel's value depends
-// only on its coordinates, never on the tiling or the thread that computed it.
+// only on its coordinates, never on the tiling or the thread that computed it:
+// it is the mean of its own camera samples (film_sampler.h), as many as
+// samples_per_pixel or, with adaptive sampling, as it needs.
 #pragma once
 
 #include <cstdint>
@@ -8,7 +10,9 @@
 #include "accel.h"
 #include "aov.h"
 #include "camera.h"
+#include "film_sampler.h"
 #include "image.h"
+#include "pixel_estimate.h"
 #include "rt/debug.pb.h"
 #include "rt/render.pb.h"
 #include "whitted.h"
@@ -20,6 +24,18 @@ struct TileRect {
     uint32_t y = 0;
     uint32_t width = 0;
     uint32_t height = 0;
+};
+
+// What a render did: the rays it traced and the camera samples it took.
+struct RenderStats {
+    RayCounts rays;
+    uint64_t samples = 0;
+
+    RenderStats& operator+=(const RenderStats& o) {
+        rays += o.rays;
+        samples += o.samples;
+        return *this;
+    }
 };
 
 // Called as tiles finish, with (tiles done, tiles total); never concurrently.
@@ -42,26 +58,33 @@ class Renderer {
     // preview: one pixel per s x s block, the block's top-left pixel computed
     // exactly as the full-resolution render computes it, ceil(width / s) by
     // ceil(height / s) pixels in all (preview_extent). Throws as check_tile does.
-    RayCounts render_tile(const TileRect& tile, float* rgb, const AuxLayers& aux = {}, uint32_t scale = 1) const;
+    RenderStats render_tile(const TileRect& tile, float* rgb, const AuxLayers& aux = {}, uint32_t scale = 1) const;
 
     // The whole image on `threads` threads (0: all cores) in square tiles, and
     // the layers `aux` holds, when given (it must have the image's size).
-    Image render(unsigned threads, uint32_t tile_size, const ProgressCallback& progress, RayCounts& counts,
+    Image render(unsigned threads, uint32_t tile_size, const ProgressCallback& progress, RenderStats& stats,
                  AuxImage* aux = nullptr) const;
 
-    // Every ray traced for one pixel. Throws std::invalid_argument outside the image.
+    // Every ray traced for one pixel: each camera sample's primary ray is a
+    // root (parent -1), and `color` is the pixel's value. Throws
+    // std::invalid_argument outside the image.
     DebugPath debug_pixel(uint32_t x, uint32_t y) const;
 
   private:
     // render_tile without the checks, writing output row j at pixel j * row_pixels.
-    RayCounts render_pixels(const TileRect& tile, uint32_t scale, float* rgb, const AuxLayers& aux,
-                            size_t row_pixels) const;
-    Ray camera_ray(uint32_t x, uint32_t y) const;
+    RenderStats render_pixels(const TileRect& tile, uint32_t scale, float* rgb, const AuxLayers& aux,
+                              size_t row_pixels) const;
+    // The mean of pixel (x, y)'s samples, `trace(ray, sampler)` giving each
+    // one's radiance; adds the number taken to `samples`.
+    template <class Trace>
+    vec3 estimate_pixel(uint32_t x, uint32_t y, uint64_t& samples, Trace&& trace) const;
     static uint32_t pixel_key(uint32_t x, uint32_t y);
 
     RenderSettings settings_;
     Camera camera_;
     PinholeCamera pinhole_;
+    FilmSampler film_;
+    StoppingRule stopping_;
     WhittedIntegrator integrator_;
 };
 

@@ -16,7 +16,8 @@
 namespace rt {
 
 // A point light (radius 0) or a spherical light. `intensity` is colour times
-// candela: irradiance at distance d is intensity / d^2.
+// candela: irradiance at distance d is intensity / d^2, which a spherical light
+// keeps by emitting the radiance intensity / (pi r^2) (sphere_light.h).
 struct Light {
     std::string name;
     vec3 position{0.0f};

@@ -4,6 +4,7 @@
 
 #include "sampling.h"
 #include "spawn.h"
+#include "sphere_light.h"
 
 namespace rt {
 namespace {
@@ -23,6 +24,7 @@ struct CountingRecorder {
         return -1;
     }
     void surface(int, const SurfaceHit&, const Hit&, const Material&, vec3) {}
+    void light(int, const Ray&, float, const Light&, vec3) {}
     void contribution(int, vec3) {}
 };
 
@@ -50,6 +52,12 @@ struct AuxRecorder {
         if (segment != 0) return;
         aux.normal = s.ns;
         aux.albedo = diffuse;
+    }
+    // A light has no albedo; its normal faces the camera, which is outside it.
+    void light(int segment, const Ray& ray, float t, const Light& light, vec3) {
+        if (segment != 0) return;
+        aux.depth = t;
+        aux.normal = glm::normalize(ray.at(t) - light.position);
     }
     void contribution(int, vec3) {}
 };
@@ -106,6 +114,18 @@ struct DebugRecorder {
         segment.set_material_name(m.name);
         segment.set_primitive(hit.primitive);
     }
+    // No material: the segment names the light it ended on.
+    void light(int index, const Ray& ray, float t, const Light& light, vec3 radiance) {
+        RaySegment& segment = *path.mutable_segments(index);
+        segment.set_outcome(REACHED_LIGHT);
+        segment.set_t(t);
+        const vec3 end = ray.at(t);
+        set_vec3(segment.mutable_end(), end);
+        set_vec3(segment.mutable_normal(), glm::normalize(end - light.position));
+        segment.set_material(-1);
+        segment.set_material_name(light.name);
+        set_vec3(segment.mutable_contribution(), radiance);
+    }
     void contribution(int index, vec3 c) { set_vec3(path.mutable_segments(index)->mutable_contribution(), c); }
 };
 
@@ -126,33 +146,64 @@ WhittedIntegrator::WhittedIntegrator(const Accelerator& accel, const RenderSetti
       scene_(accel.scene()),
       max_depth_(settings.max_depth()),
       min_contribution_(settings.min_contribution()),
-      light_samples_(settings.light_samples()) {}
+      light_samples_(settings.light_samples()),
+      light_sampling_(settings.light_sampling()) {
+    for (size_t i = 0; i < scene_.lights.size(); ++i)
+        if (scene_.lights[i].radius > 0.0f) sphere_lights_.push_back(uint32_t(i));
+}
 
-vec3 WhittedIntegrator::radiance(const Ray& ray, uint32_t pixel_key, RayCounts& counts) const {
+vec3 WhittedIntegrator::radiance(const Ray& ray, const PixelSampler& sampler, RayCounts& counts) const {
     CountingRecorder recorder{counts};
-    return trace(ray, 0, vec3(1.0f), -1, pixel_key, recorder);
+    return trace(ray, 0, vec3(1.0f), -1, sampler, recorder);
 }
 
-vec3 WhittedIntegrator::radiance(const Ray& ray, uint32_t pixel_key, RayCounts& counts, AuxSample& aux) const {
+vec3 WhittedIntegrator::radiance(const Ray& ray, const PixelSampler& sampler, RayCounts& counts,
+                                 AuxSample& aux) const {
     AuxRecorder recorder{counts, aux};
-    return trace(ray, 0, vec3(1.0f), -1, pixel_key, recorder);
+    return trace(ray, 0, vec3(1.0f), -1, sampler, recorder);
 }
 
-vec3 WhittedIntegrator::radiance(const Ray& ray, uint32_t pixel_key, DebugPath& path) const {
+vec3 WhittedIntegrator::radiance(const Ray& ray, const PixelSampler& sampler, DebugPath& path) const {
     const Bounds3 bounds = scene_.bounds();
     const float extent = bounds.empty() ? 1.0f : glm::length(bounds.extent());
     const float reach = bounds.empty() ? 1.0f : glm::length(bounds.center() - ray.origin);
     DebugRecorder recorder{path, reach + extent};
-    const vec3 color = trace(ray, 0, vec3(1.0f), -1, pixel_key, recorder);
+    const vec3 color = trace(ray, 0, vec3(1.0f), -1, sampler, recorder);
     set_vec3(path.mutable_color(), color);
     return color;
 }
 
+// Lights are few and not in the BVH: they cast no shadows, and a shadow ray
+// ends on its light without the BVH having to skip it.
+int WhittedIntegrator::nearest_light(const Ray& ray, float& t) const {
+    int nearest = -1;
+    Ray probe = ray;
+    for (uint32_t index : sphere_lights_) {
+        const Light& light = scene_.lights[index];
+        float t_light = 0.0f;
+        if (intersect_sphere(probe, Sphere{light.position, light.radius, 0}, t_light)) {
+            probe.t_max = t = t_light;
+            nearest = int(index);
+        }
+    }
+    return nearest;
+}
+
 template <class Recorder>
-vec3 WhittedIntegrator::trace(const Ray& ray, uint32_t depth, vec3 weight, int parent, uint32_t pixel_key,
-                              Recorder& recorder) const {
+vec3 WhittedIntegrator::trace(const Ray& ray, uint32_t depth, vec3 weight, int parent,
+                              const PixelSampler& sampler, Recorder& recorder) const {
     Hit hit;
     const int segment = recorder.closest(accel_, ray, depth == 0 ? PRIMARY : REFLECTION, depth, parent, weight, hit);
+    if (!sphere_lights_.empty()) {
+        float t = 0.0f;
+        const int index = nearest_light(Ray{ray.origin, ray.direction, hit.t}, t);
+        if (index >= 0) {
+            const Light& light = scene_.lights[size_t(index)];
+            const vec3 emitted = sphere_light_radiance(light);
+            recorder.light(segment, ray, t, light, emitted);
+            return emitted;
+        }
+    }
     if (!hit.found()) return scene_.background;
 
     SurfaceHit s = surface_at(scene_, ray, hit);
@@ -163,7 +214,7 @@ vec3 WhittedIntegrator::trace(const Ray& ray, uint32_t depth, vec3 weight, int p
     if (m.diffuse_texture >= 0) diffuse *= scene_.textures[size_t(m.diffuse_texture)].sample(s.uv);
     recorder.surface(segment, s, hit, m, diffuse);
 
-    vec3 color = direct_light(s, wo, m, diffuse, depth, segment, pixel_key, recorder);
+    vec3 color = direct_light(s, wo, m, diffuse, depth, segment, sampler, recorder);
     recorder.contribution(segment, color);
 
     // Reflect only while the reflected light can still show in the pixel: the
@@ -174,15 +225,15 @@ vec3 WhittedIntegrator::trace(const Ray& ray, uint32_t depth, vec3 weight, int p
         // A bent shading normal can mirror below the surface; the true surface decides.
         if (glm::dot(direction, s.ng) <= 0.0f) direction = glm::reflect(ray.direction, s.ng);
         const Ray reflected = spawn_ray(s.p, s.p_error, s.ng, direction);
-        color += m.reflectance * trace(reflected, depth + 1, reflected_weight, segment,
-                                       hash_combine(pixel_key, depth + 1), recorder);
+        color += m.reflectance * trace(reflected, depth + 1, reflected_weight, segment, sampler.bounce(depth + 1),
+                                       recorder);
     }
     return color;
 }
 
 template <class Recorder>
 vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Material& m, vec3 diffuse,
-                                     uint32_t depth, int parent, uint32_t pixel_key,
+                                     uint32_t depth, int parent, const PixelSampler& sampler,
                                      Recorder& recorder) const {
     vec3 color(0.0f);
     for (size_t light_index = 0; light_index < scene_.lights.size(); ++light_index) {
@@ -207,32 +258,21 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Materia
             continue;
         }
 
-        // A spherical light: uniform directions in the cone it subtends, so every
-        // sample lands on the light (the seed sampled the whole sphere, wasting the
-        // back half). Radiance L = I / (pi r^2) makes it a point light from afar.
-        const float sin2_max = radius_squared / distance_squared;
-        const float cos_max = std::sqrt(glm::max(0.0f, 1.0f - sin2_max));
-        const float solid_angle = 2.0f * kPi * (1.0f - cos_max);
-        const vec3 radiance = light.intensity / (kPi * radius_squared);
-        const vec3 axis = to_light / std::sqrt(distance_squared);
-        vec3 b1, b2;
-        orthonormal_basis(axis, b1, b2);
-        const uint32_t key = hash_combine(pixel_key, uint32_t(light_index));
+        // A spherical light: light_samples points on it, each pixel sample
+        // taking its own share of the light's sample dimension.
+        const SphereLightSampler light_sampler(light, light_sampling_, s.p);
         vec3 sum(0.0f);
         for (uint32_t i = 0; i < light_samples_; ++i) {
-            const vec3 local = sample_uniform_cone(stratified_2d(i, light_samples_, key), cos_max);
-            const vec3 wi = glm::normalize(local.x * b1 + local.y * b2 + local.z * axis);
-            const float cos_theta = glm::dot(s.ns, wi);
-            if (cos_theta <= 0.0f || glm::dot(s.ng, wi) <= 0.0f) continue;
-            float t_light = 0.0f;
-            Ray probe = spawn_ray(s.p, s.p_error, s.ng, wi);
-            if (!intersect_sphere(probe, Sphere{light.position, light.radius, 0}, t_light)) continue;
-            probe.t_max = t_light;
+            SphereLightSample sample;
+            if (!light_sampler.sample(sampler.get_2d(uint32_t(light_index), i, light_samples_), sample)) continue;
+            const float cos_theta = glm::dot(s.ns, sample.wi);
+            if (cos_theta <= 0.0f || glm::dot(s.ng, sample.wi) <= 0.0f) continue;
             bool occluded = false;
-            const int shadow = recorder.shadow(accel_, probe, depth, parent, occluded);
+            const int shadow = recorder.shadow(accel_, spawn_ray_to(s.p, s.p_error, s.ng, sample.point), depth,
+                                               parent, occluded);
             if (occluded) continue;
-            const vec3 c = phong_brdf(diffuse, m.specular, m.shininess, s.ns, wo, wi) * radiance *
-                           (cos_theta * solid_angle / float(light_samples_));
+            const vec3 c = phong_brdf(diffuse, m.specular, m.shininess, s.ns, wo, sample.wi) * sample.weight *
+                           (cos_theta / float(light_samples_));
             recorder.contribution(shadow, c);
             sum += c;
         }

@@ -1,15 +1,19 @@
 // The Whitted integrator of the origin document: Phong shading from every light
 // with shadow rays (sections 2, 4, 5), plus recursive mirror reflection (section
-// 3) cut off when the path weight can no longer change the pixel.
+// 3) cut off when the path weight can no longer change the pixel. Spherical
+// lights are also seen: a camera or reflection ray that meets one returns its
+// radiance.
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "accel.h"
 #include "aov.h"
 #include "ray.h"
 #include "rt/debug.pb.h"
 #include "rt/render.pb.h"
+#include "sampler.h"
 #include "surface.h"
 
 namespace rt {
@@ -33,30 +37,35 @@ class WhittedIntegrator {
     // `settings` must have had its limits applied (proto_limits.h).
     WhittedIntegrator(const Accelerator& accel, const RenderSettings& settings);
 
-    // Linear RGB carried back along a camera ray. `pixel_key` seeds the pixel's
-    // light samples, so the result is the same whichever thread computes it.
-    vec3 radiance(const Ray& ray, uint32_t pixel_key, RayCounts& counts) const;
+    // Linear RGB carried back along a camera ray. `sampler` gives the pixel
+    // sample's light samples, so the result is the same whichever thread
+    // computes it.
+    vec3 radiance(const Ray& ray, const PixelSampler& sampler, RayCounts& counts) const;
 
     // The same, also reporting the primary hit's depth, normal and albedo and
     // the BVH traversal cost of every ray traced (aov.h).
-    vec3 radiance(const Ray& ray, uint32_t pixel_key, RayCounts& counts, AuxSample& aux) const;
+    vec3 radiance(const Ray& ray, const PixelSampler& sampler, RayCounts& counts, AuxSample& aux) const;
 
     // The same, recording every ray it traces into `path` for the debugger.
-    vec3 radiance(const Ray& ray, uint32_t pixel_key, DebugPath& path) const;
+    vec3 radiance(const Ray& ray, const PixelSampler& sampler, DebugPath& path) const;
 
   private:
     template <class Recorder>
-    vec3 trace(const Ray& ray, uint32_t depth, vec3 weight, int parent, uint32_t pixel_key,
+    vec3 trace(const Ray& ray, uint32_t depth, vec3 weight, int parent, const PixelSampler& sampler,
                Recorder& recorder) const;
     template <class Recorder>
     vec3 direct_light(const SurfaceHit& s, vec3 wo, const Material& m, vec3 diffuse, uint32_t depth,
-                      int parent, uint32_t pixel_key, Recorder& recorder) const;
+                      int parent, const PixelSampler& sampler, Recorder& recorder) const;
+    // The nearest spherical light `ray` meets before ray.t_max, or -1; its distance in `t`.
+    int nearest_light(const Ray& ray, float& t) const;
 
     const Accelerator& accel_;
     const Scene& scene_;
     uint32_t max_depth_;
     float min_contribution_;
     uint32_t light_samples_;
+    LightSampling light_sampling_;
+    std::vector<uint32_t> sphere_lights_;  // indices of the lights with a radius
 };
 
 // Lafortune and Willems' normalized Phong: Kd/pi + Ks (n+2)/(2 pi) cos^n(alpha),

@@ -27,7 +27,7 @@ const std::vector<AuxOutput> kAll = {DEPTH, NORMAL, ALBEDO, BVH_COST};
 struct TileResult {
     std::vector<float> rgb;
     AuxImage aux;
-    RayCounts counts;
+    RenderStats counts;
 };
 
 TileResult render_tile(const Renderer& renderer, TileRect tile, const std::vector<AuxOutput>& outputs,
@@ -87,6 +87,52 @@ TEST(Aov, DepthOfAPlaneIsTheDistanceAlongEachRay) {
     EXPECT_GT(misses, 0);
 }
 
+// With several samples per pixel, depth, normal and albedo are their means
+// over the samples, as colour is, and the cost is their sum: GRID's four
+// sub-pixels are four known rays, and the plane's edge (x = kEdge, film
+// x = 20.5) leaves half of those of pixel column 20 on the plane.
+TEST(Aov, SeveralSamplesAverageTheLayersAndSumTheCost) {
+    constexpr float kEdge = 0.0962f;
+    Scene scene;
+    add_quad(scene, vec3(-50.0f, -50.0f, -5.0f), vec3(50.0f + kEdge, 0.0f, 0.0f), vec3(0.0f, 100.0f, 0.0f),
+             add_material(scene, vec3(0.5f)));
+    add_point_light(scene, vec3(0.0f, 0.0f, 0.0f), 1.0f);
+    const Accelerator accel(scene, 1);
+    const Camera camera = make_camera(vec3(0.0f), vec3(0.0f, 0.0f, -1.0f), 60.0f);
+    const uint32_t w = 40, h = 30;
+    RenderSettings settings = make_settings(w, h);
+    settings.set_pixel_filter(GRID);
+    settings.set_samples_per_pixel(4);
+    const Renderer renderer(accel, settings, camera);
+    const TileResult result = render_tile(renderer, {0, 0, w, h}, {DEPTH, NORMAL, ALBEDO, BVH_COST});
+    EXPECT_EQ(result.counts.samples, uint64_t(4) * w * h);
+    const PinholeCamera pinhole(camera, w, h);
+    int edge_pixels = 0;
+    for (uint32_t y = 0; y < h; ++y) {
+        for (uint32_t x = 0; x < w; ++x) {
+            float depth = 0.0f;
+            int hits = 0;
+            for (float dy : {0.25f, 0.75f}) {
+                for (float dx : {0.25f, 0.75f}) {
+                    const vec3 d = pinhole.generate_ray(float(x) + dx, float(y) + dy).direction;
+                    if (5.0f * d.x / -d.z < kEdge) depth += 5.0f / -d.z, ++hits;
+                }
+            }
+            const size_t p = size_t(y) * w + x;
+            EXPECT_NEAR(result.aux.depth[p], depth / 4.0f, 1e-5f * (1.0f + depth)) << x << ", " << y;
+            EXPECT_NEAR(result.aux.normal[3 * p + 2], float(hits) / 4.0f, 1e-6f) << x << ", " << y;
+            EXPECT_NEAR(result.aux.albedo[3 * p], 0.5f * float(hits) / 4.0f, 1e-6f) << x << ", " << y;
+            edge_pixels += hits == 2;
+        }
+    }
+    EXPECT_GT(edge_pixels, 0);
+    // The cost of one pixel is the sum over the rays of all its samples.
+    const DebugPath path = renderer.debug_pixel(20, 15);
+    uint64_t nodes = 0;
+    for (const RaySegment& segment : path.segments()) nodes += uint64_t(segment.visited_nodes_size());
+    EXPECT_EQ(result.aux.bvh_cost[2 * (15 * w + 20)], nodes);
+}
+
 TEST(Aov, NormalsAreUnitAndFaceTheCameraAlbedoIsTheDiffuseColour) {
     const Scene scene = floor_and_sphere(1.0f);
     const Accelerator accel(scene, 1);
@@ -142,8 +188,8 @@ TEST(Aov, ColourAndRayCountsAreTheSameWithAndWithoutAuxOutputs) {
     const TileResult plain = render_tile(renderer, {0, 0, 40, 30}, {});
     const TileResult with_aux = render_tile(renderer, {0, 0, 40, 30}, kAll);
     EXPECT_EQ(plain.rgb, with_aux.rgb);
-    EXPECT_EQ(plain.counts.total(), with_aux.counts.total());
-    EXPECT_EQ(plain.counts.shadow, with_aux.counts.shadow);
+    EXPECT_EQ(plain.counts.rays.total(), with_aux.counts.rays.total());
+    EXPECT_EQ(plain.counts.rays.shadow, with_aux.counts.rays.shadow);
 }
 
 // The Cornell box's mirror camera: reflections add rays, and every ray adds cost.
@@ -216,7 +262,7 @@ TEST(Aov, WholeImageLayersMatchTheTiles) {
     const Accelerator accel(scene, 2);
     const Renderer renderer(accel, make_settings(37, 29), make_camera({0.0f, 3.0f, 9.0f}, {0.0f, 0.8f, 0.0f}));
     AuxImage aux(37, 29, kAll);
-    RayCounts counts;
+    RenderStats counts;
     const Image image = renderer.render(2, 8, nullptr, counts, &aux);
     const TileResult tile = render_tile(renderer, {0, 0, 37, 29}, kAll);
     EXPECT_EQ(image.rgb, tile.rgb);
@@ -233,7 +279,7 @@ TEST(Aov, ExrCarriesTheLayersAsNamedChannels) {
     const Accelerator accel(scene, 1);
     const Renderer renderer(accel, make_settings(12, 9), make_camera({0.0f, 3.0f, 9.0f}, {0.0f, 0.8f, 0.0f}));
     AuxImage aux(12, 9, {BVH_COST, DEPTH});
-    RayCounts counts;
+    RenderStats counts;
     const Image image = renderer.render(1, 4, nullptr, counts, &aux);
     const TempDir dir;
     const std::filesystem::path file = dir.path() / "aux.exr";

@@ -28,6 +28,47 @@ TEST(ProtoLimits, AbsentFieldsTakeTheSchemaDefaults) {
     EXPECT_FLOAT_EQ(settings.min_contribution(), 0.001f);
 }
 
+TEST(ProtoLimits, SamplingSettingsHaveTheirDefaultsAndLimits) {
+    RenderSettings settings;
+    parse_json_message("{}", settings, "settings");
+    EXPECT_EQ(settings.samples_per_pixel(), 1u);
+    EXPECT_EQ(settings.adaptive_threshold(), 0.0f);
+    // Absent enums are their zero value, which is the default.
+    EXPECT_EQ(settings.pixel_filter(), GAUSSIAN);
+    EXPECT_EQ(settings.light_sampling(), CONE);
+    EXPECT_FALSE(settings.has_pixel_filter());
+    RenderSettings given;
+    parse_json_message(R"({"pixelFilter": "GRID", "light_sampling": "SPHERE", "samplesPerPixel": 4})", given,
+                       "settings");
+    EXPECT_EQ(given.pixel_filter(), GRID);
+    EXPECT_EQ(given.light_sampling(), SPHERE);
+    RenderSettings zero;
+    EXPECT_EQ(error_of(R"({"samplesPerPixel": 0})", zero), "settings.samplesPerPixel: 0 is below the minimum 1");
+    RenderSettings many;
+    EXPECT_EQ(error_of(R"({"samplesPerPixel": 65537})", many),
+              "settings.samplesPerPixel: 65537 is above the maximum 65536");
+    RenderSettings negative;
+    EXPECT_EQ(error_of(R"({"adaptiveThreshold": -0.1})", negative),
+              "settings.adaptiveThreshold: -0.1 is below the minimum 0");
+    RenderSettings unknown;
+    EXPECT_NE(error_of(R"({"pixelFilter": "LANCZOS"})", unknown).find("LANCZOS"), std::string::npos);
+}
+
+// Proto3 enums are open: serialized input may hold numbers the schema never named.
+TEST(ProtoLimits, UnnamedEnumValuesAreRefused) {
+    RenderSettings settings;
+    settings.set_pixel_filter(PixelFilter(7));
+    try {
+        apply_limits(settings, "settings");
+        FAIL() << "pixel filter 7 accepted";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_STREQ(e.what(), "settings.pixelFilter: 7 is not one of GAUSSIAN, BOX, TENT, GRID");
+    }
+    RenderSettings numeric;
+    EXPECT_EQ(error_of(R"({"lightSampling": 1})", numeric), "");
+    EXPECT_EQ(numeric.light_sampling(), SPHERE);
+}
+
 TEST(ProtoLimits, GivenFieldsAreKept) {
     RenderSettings settings;
     parse_json_message(R"({"width": 64, "maxDepth": 0})", settings, "settings");

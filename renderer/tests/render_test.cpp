@@ -15,7 +15,7 @@ Image render_image(const Scene& scene, const Camera& camera, uint32_t w, uint32_
                    uint32_t tile) {
     const Accelerator accel(scene, threads);
     const Renderer renderer(accel, make_settings(w, h), camera);
-    RayCounts counts;
+    RenderStats counts;
     return renderer.render(threads, tile, nullptr, counts);
 }
 
@@ -74,6 +74,52 @@ TEST(Render, SameImageForAnyTilingAndThreadCount) {
         const Image image = render_image(scene, camera, 67, 43, threads, tile);
         EXPECT_EQ(image.rgb, reference.rgb) << threads << " threads, tile " << tile;
     }
+}
+
+// Several samples per pixel, adaptive stopping, a filter reaching into the
+// neighbours and a spherical light: still a function of the pixel alone.
+TEST(Render, SameImageForAnyTilingAndThreadCountWithManySamples) {
+    Scene scene = floor_and_sphere(1.0f);
+    scene.lights[0].radius = 0.5f;
+    const Camera camera = make_camera({0.0f, 3.0f, 9.0f}, {0.0f, 0.8f, 0.0f}, 40.0f);
+    const Accelerator accel(scene, 1);
+    for (float threshold : {0.0f, 0.5f}) {
+        RenderSettings settings = make_settings(37, 23);
+        settings.set_samples_per_pixel(48);
+        settings.set_adaptive_threshold(threshold);
+        settings.set_light_samples(3);
+        const Renderer renderer(accel, settings, camera);
+        RenderStats reference_stats;
+        const Image reference = renderer.render(1, 1000, nullptr, reference_stats);
+        for (auto [threads, tile] : {std::pair{2u, 5u}, std::pair{4u, 1u}, std::pair{3u, 16u}}) {
+            RenderStats stats;
+            EXPECT_EQ(renderer.render(threads, tile, nullptr, stats).rgb, reference.rgb)
+                << "threshold " << threshold << ", " << threads << " threads, tile " << tile;
+            EXPECT_EQ(stats.samples, reference_stats.samples);
+            EXPECT_EQ(stats.rays.total(), reference_stats.rays.total());
+        }
+        if (threshold == 0.0f) EXPECT_EQ(reference_stats.samples, uint64_t(48) * 37 * 23);
+        else EXPECT_LT(reference_stats.samples, uint64_t(48) * 37 * 23);
+    }
+}
+
+// The debugger traces every sample of the pixel and agrees with the render.
+TEST(Render, DebugPixelTracesEverySample) {
+    Scene scene = floor_and_sphere(1.0f);
+    scene.lights[0].radius = 0.5f;
+    const Accelerator accel(scene, 1);
+    RenderSettings settings = make_settings(16, 12);
+    settings.set_samples_per_pixel(5);
+    settings.set_light_samples(2);
+    const Renderer renderer(accel, settings, make_camera({0.0f, 3.0f, 9.0f}, {0.0f, 0.8f, 0.0f}, 40.0f));
+    const DebugPath path = renderer.debug_pixel(8, 8);
+    int primaries = 0;
+    for (const RaySegment& segment : path.segments()) primaries += segment.kind() == PRIMARY;
+    EXPECT_EQ(primaries, 5);
+    float rgb[3];
+    renderer.render_tile({8, 8, 1, 1}, rgb);
+    ASSERT_EQ(path.color_size(), 3);
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(path.color(c), rgb[c]);
 }
 
 TEST(Render, TileOutsideTheImageIsRefused) {

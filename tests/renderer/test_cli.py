@@ -16,8 +16,11 @@ def run(rtrender, *args):
 def test_help_lists_every_render_setting(rtrender):
     result = run(rtrender, "--help")
     assert result.returncode == 0
-    for flag in ("--width", "--height", "--max-depth", "--min-contribution", "--light-samples", "--settings"):
+    for flag in ("--width", "--height", "--max-depth", "--min-contribution", "--light-samples", "--settings",
+                 "--samples-per-pixel", "--adaptive-threshold"):
         assert flag in result.stdout
+    assert re.search(r"--pixel-filter NAME +gaussian, box, tent, grid \(default gaussian\)", result.stdout)
+    assert re.search(r"--light-sampling NAME +cone, sphere \(default cone\)", result.stdout)
 
 
 def test_png_matches_rtcore_and_summary_is_printed(rtrender, scenes_dir, tmp_path):
@@ -35,6 +38,35 @@ def test_png_matches_rtcore_and_summary_is_printed(rtrender, scenes_dir, tmp_pat
     srgb = np.where(linear <= 0.0031308, 12.92 * linear, 1.055 * np.clip(linear, 0, 1) ** (1 / 2.4) - 0.055)
     expected = np.round(np.clip(srgb, 0, 1) * 255)
     assert np.abs(image.astype(int) - expected.astype(int)).max() <= 1
+
+
+def test_sampling_flags_and_samples_per_pixel_in_the_summary(rtrender, scenes_dir, tmp_path):
+    scene = scenes_dir / "cornell_sphere_light.obj"
+    common = ("-o", tmp_path / "a.png", "--width", 32, "--height", 24, "--quiet")
+    result = run(rtrender, scene, *common, "--samples-per-pixel", 16, "--pixel-filter", "Tent",
+                 "--light-sampling", "sphere")
+    assert result.returncode == 0, result.stderr
+    assert ", 16.0 samples/pixel -> " in result.stdout
+    assert ", 1.0 samples/pixel -> " in run(rtrender, scene, *common).stdout
+
+    result = run(rtrender, scene, *common, "--samples-per-pixel", 128, "--adaptive-threshold", 0.2,
+                 "--light-samples", 1)
+    assert result.returncode == 0, result.stderr
+    mean = float(re.search(r", ([\d.]+) samples/pixel", result.stdout).group(1))
+    assert 32 <= mean < 128
+
+    # Flags override the settings file, enums included (the default's zero value too).
+    settings = tmp_path / "settings.json"
+    settings.write_text(json.dumps({"pixelFilter": "GRID", "samplesPerPixel": 9}))
+    assert run(rtrender, scene, *common, "--settings", settings).returncode == 0
+    result = run(rtrender, scene, *common, "--settings", settings, "--samples-per-pixel", 10)
+    assert result.returncode == 2 and "GRID takes a square number" in result.stderr
+    assert run(rtrender, scene, *common, "--settings", settings, "--samples-per-pixel", 10,
+               "--pixel-filter", "gaussian").returncode == 0
+
+    result = run(rtrender, scene, *common, "--pixel-filter", "lanczos")
+    assert result.returncode == 2
+    assert "--pixel-filter: 'lanczos' is not one of gaussian, box, tent, grid" in result.stderr
 
 
 def test_exr_and_settings_file(rtrender, scenes_dir, tmp_path):
@@ -64,6 +96,8 @@ def test_errors_name_the_problem(rtrender, scenes_dir, tmp_path):
         ((), 2, "no scene"),
         ((scenes_dir / "cornell.obj",), 2, "no output"),
         ((scenes_dir / "cornell.obj", "-o", tmp_path / "x.png", "--width", 0), 2, "settings.width: 0 is below"),
+        ((scenes_dir / "cornell.obj", "-o", tmp_path / "x.png", "--samples-per-pixel", 0), 2,
+         "settings.samplesPerPixel: 0 is below the minimum 1"),
         ((scenes_dir / "cornell.obj", "-o", tmp_path / "x.png", "--width", "abc"), 2, "not a number"),
         ((scenes_dir / "cornell.obj", "-o", tmp_path / "x.png", "--bogus", 1), 2, "unknown option --bogus"),
         ((scenes_dir / "cornell.obj", "-o", tmp_path / "x.png", "--camera", "nope"), 2, "no camera 'nope'"),

@@ -178,7 +178,7 @@ def test_aux_layers_come_with_the_colour(cornell):
     camera = cornell.default_camera
     plain = cornell.render_tile(camera, settings(), 0, 0, 48, 36)
     result = cornell.render_tile(camera, settings(), 0, 0, 48, 36, aux=ALL_AUX)
-    assert set(result) == {"color", "depth", "normal", "albedo", "bvh_cost", "rays"}
+    assert set(result) == {"color", "depth", "normal", "albedo", "bvh_cost", "rays", "samples"}
     np.testing.assert_array_equal(result["color"], plain)
     assert result["depth"].shape == (36, 48) and result["depth"].dtype == np.float32
     assert result["normal"].shape == result["albedo"].shape == (36, 48, 3)
@@ -196,7 +196,7 @@ def test_aux_layers_come_with_the_colour(cornell):
     from rt import job_pb2
 
     by_value = cornell.render_tile(camera, settings(), 0, 0, 48, 36, aux=[job_pb2.DEPTH])
-    assert set(by_value) == {"color", "depth", "rays"}
+    assert set(by_value) == {"color", "depth", "rays", "samples"}
     np.testing.assert_array_equal(by_value["depth"], result["depth"])
     assert by_value["rays"] == result["rays"]
 
@@ -247,3 +247,64 @@ def test_preview_tile_pixels_are_the_final_pixels(cornell):
                                   full["color"][::4, ::4])
     with pytest.raises(ValueError, match="scale must be at least 1"):
         cornell.render_tile(mirror, settings(), x, y, w, h, scale=0)
+
+
+@pytest.fixture(scope="module")
+def sphere_light(scenes_dir):
+    return rtcore.Scene.load(str(scenes_dir / "cornell_sphere_light.obj"))
+
+
+def test_render_tile_counts_the_samples(sphere_light):
+    camera = sphere_light.default_camera
+    uniform = sphere_light.render_tile(camera, settings(32, 24, samples_per_pixel=4, light_samples=2),
+                                       0, 0, 16, 12, aux=[])
+    assert set(uniform) == {"color", "rays", "samples"}
+    assert uniform["samples"] == 16 * 12 * 4
+    assert uniform["rays"] >= uniform["samples"]
+    preview = sphere_light.render_tile(camera, settings(32, 24, samples_per_pixel=4), 0, 0, 16, 12, aux=[], scale=4)
+    assert preview["samples"] == 4 * 3 * 4  # only the preview's own pixels
+
+    # Adaptive: at least the minimum (32 at threshold 0.2), in batches of 8, at most samples_per_pixel.
+    adaptive = settings(32, 24, samples_per_pixel=128, adaptive_threshold=0.2, light_samples=1)
+    total = sphere_light.render_tile(camera, adaptive, 0, 0, 32, 24, aux=[])["samples"]
+    assert 32 * 32 * 24 < total < 128 * 32 * 24
+    pixel = sphere_light.render_tile(camera, adaptive, 5, 7, 1, 1, aux=[])["samples"]
+    assert pixel % 8 == 0 and 32 <= pixel <= 128
+
+
+def test_sampling_settings_have_defaults_and_refuse_bad_values(cornell):
+    defaults = render_pb2.RenderSettings.FromString(rtcore.parse_message("rt.RenderSettings", "{}"))
+    assert defaults.samples_per_pixel == 1 and defaults.adaptive_threshold == 0
+    assert defaults.pixel_filter == render_pb2.GAUSSIAN and defaults.light_sampling == render_pb2.CONE
+    given = render_pb2.RenderSettings.FromString(rtcore.parse_message(
+        "rt.RenderSettings", '{"pixelFilter": "GRID", "lightSampling": "SPHERE", "samplesPerPixel": 9}'))
+    assert (given.pixel_filter, given.light_sampling, given.samples_per_pixel) == (render_pb2.GRID, render_pb2.SPHERE, 9)
+
+    camera = cornell.default_camera
+    with pytest.raises(ValueError, match=r"^settings\.samplesPerPixel: 0 is below the minimum 1$"):
+        cornell.render_tile(camera, settings(8, 8, samples_per_pixel=0), 0, 0, 1, 1)
+    with pytest.raises(ValueError, match=r"^settings\.samplesPerPixel: 70000 is above the maximum 65536$"):
+        cornell.render_tile(camera, '{"samplesPerPixel": 70000}', 0, 0, 1, 1)
+    with pytest.raises(ValueError, match=r"^settings\.adaptiveThreshold: 2 is above the maximum 1$"):
+        cornell.render_tile(camera, settings(8, 8, adaptive_threshold=2), 0, 0, 1, 1)
+    with pytest.raises(ValueError, match="LANCZOS"):
+        cornell.render_tile(camera, '{"pixelFilter": "LANCZOS"}', 0, 0, 1, 1)
+    with pytest.raises(ValueError, match=r"settings\.pixelFilter: 7 is not one of GAUSSIAN, BOX, TENT, GRID"):
+        cornell.render_tile(camera, settings(8, 8, pixel_filter=7), 0, 0, 1, 1)
+    with pytest.raises(ValueError, match=r"settings\.samplesPerPixel: GRID takes a square number"):
+        cornell.render_tile(camera, settings(8, 8, pixel_filter=render_pb2.GRID, samples_per_pixel=10), 0, 0, 1, 1)
+    with pytest.raises(ValueError, match=r"settings\.adaptiveThreshold: adaptive sampling"):
+        cornell.render_tile(camera, settings(8, 8, pixel_filter=render_pb2.GRID, samples_per_pixel=16,
+                                             adaptive_threshold=0.1), 0, 0, 1, 1)
+
+
+def test_one_sample_per_pixel_is_the_default_image(cornell):
+    camera = cornell.default_camera
+    default = cornell.render_tile(camera, settings(), 0, 0, 48, 36)
+    for name in ("BOX", "TENT", "GAUSSIAN", "GRID"):
+        explicit = cornell.render_tile(camera, json.dumps({"width": 48, "height": 36, "samplesPerPixel": 1,
+                                                           "pixelFilter": name}), 0, 0, 48, 36)
+        np.testing.assert_array_equal(explicit, default, err_msg=name)
+    smooth = cornell.render_tile(camera, settings(samples_per_pixel=16, pixel_filter=render_pb2.BOX), 0, 0, 48, 36)
+    assert not np.array_equal(smooth, default), "16 samples per pixel smooth the box's edges"
+    np.testing.assert_allclose(smooth.mean(), default.mean(), rtol=0.05)

@@ -158,3 +158,17 @@ def test_the_heat_map_legend_is_the_ramp_of_bvh_cost_png(client):
     assert tuple(ramp[0]) == (0, 0, 0) and tuple(ramp[-1]) == (255, 255, 255)
     brightness = ramp.astype(int).sum(axis=1)
     assert (np.diff(brightness) >= -2).all(), "the ramp brightens from low to high cost"
+
+
+def test_adaptive_jobs_report_their_mean_samples_per_pixel(client, cornell_id):
+    settings = {"width": 48, "height": 36, "samples_per_pixel": 64}
+    uniform = wait_for(client, submit(client, cornell_id, settings=settings).json()["id"])
+    assert uniform["mean_samples_per_pixel"] == 64
+    adaptive = wait_for(client, submit(client, cornell_id, settings={**settings, "adaptive_threshold": 0.2}).json()["id"])
+    assert adaptive["state"] == "DONE" and 0 < adaptive["mean_samples_per_pixel"] < 64
+
+
+def test_settings_the_renderer_refuses_are_refused_before_queueing(client, cornell_id):
+    response = client.post("/api/jobs", json={"scene_id": cornell_id, "settings": {
+        "pixel_filter": "GRID", "samples_per_pixel": 5}})
+    assert response.status_code == 422 and "GRID takes a square number" in response.json()["detail"]

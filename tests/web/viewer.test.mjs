@@ -54,6 +54,13 @@ describe("rt viewer", { timeout: 170_000 }, () => {
     const schema = (await api("/openapi.json")).components.schemas["rt.RenderSettings"].properties;
     for (const [name, field] of Object.entries(schema)) {
       const input = page.locator(`#setting-${name}`);
+      if (field.enum) {
+        const options = await input.locator("option").count();
+        assert.equal(options, field.enum.length, `${name} offers every value`);
+        assert.equal(await input.inputValue(), "0", `${name} starts at the proto default`);
+        assert.ok(await page.locator(`label[for="setting-${name}"]`).count(), `${name} has a label`);
+        continue;
+      }
       assert.equal(await input.getAttribute("min"), String(field.minimum), `${name} min`);
       assert.equal(await input.getAttribute("max"), String(field.maximum), `${name} max`);
       assert.equal(Number(await input.inputValue()), field.default, `${name} default`);
@@ -127,7 +134,7 @@ describe("rt viewer", { timeout: 170_000 }, () => {
     await page.waitForTimeout(150);
     await screenshot(page, "rendering");
     await waitIn(() => document.querySelector("#job-state").textContent === "done", null, "the job to finish", 60_000);
-    await waitIn(() => window.rt.tiles.queue.length === 0, null, "the last tiles painted");
+    await waitIn(() => window.rt.tiles._ended && window.rt.tiles.queue.length === 0, null, "the stream's end and the last tiles painted");
     await screenshot(page, "rendered");
 
     const job = await api(`/api/jobs/${jobId}`);

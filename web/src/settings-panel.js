@@ -1,6 +1,7 @@
 // Render settings, built from the schema: one labelled number input for every
-// field of rt.RenderSettings with its rt.limits default and range, a checkbox
-// for every rt.AuxOutput, and the view's field of view (rt.Camera.fov_y).
+// numeric field of rt.RenderSettings with its rt.limits default and range, a
+// choice for every enum field (its zero value first, the proto default), a
+// checkbox for every rt.AuxOutput, and the view's field of view (rt.Camera.fov_y).
 // A setting added to render.proto appears here with no change to this file.
 import { ScalarType } from "@bufbuild/protobuf";
 import { enumChoices, limitsOf, schema } from "./proto.js";
@@ -32,6 +33,20 @@ function numberInput(id, field, limits) {
   return input;
 }
 
+function enumSelect(id, field) {
+  const select = document.createElement("select");
+  select.id = id;
+  select.name = field.name;
+  for (const value of field.enum.values) {
+    const option = document.createElement("option");
+    option.value = String(value.number);
+    option.textContent = labelOf(value.name);
+    select.append(option);
+  }
+  select.value = String(field.enum.values[0].number);
+  return select;
+}
+
 function describe(limits) {
   if (!limits) return "";
   const parts = [];
@@ -58,7 +73,7 @@ export class SettingsPanel extends EventTarget {
     const label = document.createElement("label");
     label.htmlFor = id;
     label.textContent = text;
-    const input = numberInput(id, field, limits);
+    const input = field.fieldKind === "enum" ? enumSelect(id, field) : numberInput(id, field, limits);
     const hint = describe(limits);
     if (hint) {
       input.title = hint;
@@ -73,7 +88,7 @@ export class SettingsPanel extends EventTarget {
     const settings = document.createElement("fieldset");
     settings.innerHTML = "<legend>Render settings</legend>";
     for (const field of schema("RenderSettings").fields) {
-      if (field.fieldKind !== "scalar") continue;
+      if (field.fieldKind !== "scalar" && field.fieldKind !== "enum") continue;
       const input = this._field(settings, field, "setting");
       this.inputs.set(field.localName, input);
       input.addEventListener("input", () => this._changed(field.localName));

@@ -84,6 +84,8 @@ def _field_schema(field: _descriptor.FieldDescriptor) -> tuple[dict[str, Any], b
         item: dict[str, Any] = schema_ref(field.message_type)
     elif field.type == field.TYPE_ENUM:
         item = {"type": "string", "enum": [v.name for v in field.enum_type.values]}
+        if field.label != field.LABEL_REPEATED:
+            item["default"] = field.enum_type.values_by_number[0].name  # proto3: the zero value
     else:
         item = dict(_SCALARS[field.type])
         if limits.HasField("min"):

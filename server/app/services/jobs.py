@@ -73,7 +73,7 @@ class JobManager:
 
     def validate(self, request: job_pb2.JobRequest) -> StoredScene:
         """Fills the camera from the scene when absent, and tries the request on
-        one pixel so the renderer's own checks (camera, settings) answer now
+        the renderer so that its own checks (camera, settings) answer now
         rather than inside a worker. Raises JobError."""
         stored = self._scenes.get(request.scene_id)
         if stored is None:
@@ -86,8 +86,7 @@ class JobManager:
             raise JobError(f"settings: {request.settings.width}x{request.settings.height} is {pixels} pixels, "
                            f"above this server's limit of {self._settings.max_job_pixels}", 422)
         try:
-            stored.load().render_tile(request.camera.SerializeToString(), request.settings.SerializeToString(),
-                                      0, 0, 1, 1)
+            stored.load().check(request.camera.SerializeToString(), request.settings.SerializeToString())
         except ValueError as e:
             raise JobError(str(e), 422) from None
         return stored
@@ -192,6 +191,7 @@ class JobManager:
             self._tiles[future.key] = (running, spec)
             submitted.append(future)
         samples_done = 0
+        camera_samples = pixels_done = 0  # of the full-resolution pass
         last_saved = 0.0
         shutdown = False
         try:
@@ -211,6 +211,10 @@ class JobManager:
                 job.progress = samples_done / total_samples
                 job.render_seconds += result["seconds"]
                 job.rays += result["rays"]
+                if spec.scale == 1:
+                    camera_samples += result["samples"]
+                    pixels_done += spec.w * spec.h
+                    job.mean_samples_per_pixel = camera_samples / pixels_done
                 if time.monotonic() - last_saved > PERSIST_EVERY_SECONDS:
                     self._store.save(job)
                     last_saved = time.monotonic()

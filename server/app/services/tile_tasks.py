@@ -30,7 +30,8 @@ TILE_STARTED_TOPIC = "rt-tile-started"
 def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, x: int, y: int, w: int, h: int,
                 scale: int) -> dict[str, Any]:
     """Renders one tile: its layers as arrays of ceil(h/scale) x ceil(w/scale)
-    samples, the rays traced, and when the worker started and how long it took."""
+    pixels, the rays traced and camera samples taken, and when the worker
+    started and how long it took."""
     started = time.time()
     worker = get_worker()
     worker.log_event(TILE_STARTED_TOPIC, worker.get_current_task())
@@ -41,9 +42,11 @@ def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, x: int, 
     # With aux given (even empty) rtcore answers a dict that also counts the rays.
     layers = scene.render_tile(camera, settings, x, y, w, h, scale=scale, aux=aux_names(request))
     rays = int(layers.pop("rays"))
+    samples = int(layers.pop("samples"))
     return {
         "layers": {name: np.asarray(array) for name, array in layers.items()},
         "rays": rays,
+        "samples": samples,
         "started": started,
         "seconds": time.time() - started,
     }
