@@ -14,9 +14,9 @@ from dataclasses import dataclass
 
 PREVIEW_SCALE = 8
 PREVIEW_MIN_PIXELS = 256 * 256   # smaller images are fast enough without a preview
-PREVIEW_TILE = 256
-TILE_SIZES = (128, 64, 32, 16)
-TILES_PER_THREAD = 16            # enough tasks to balance the load on every thread
+PREVIEW_TILE = 512
+TILE_SIZES = (256, 128, 64, 32, 16)
+TILES_PER_THREAD = 4             # enough tasks to balance the load on every thread
 
 INTERACTIVE_BOOST = 10_000_000
 PREVIEW_BOOST = 1_000_000
