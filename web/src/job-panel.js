@@ -152,10 +152,10 @@ export class JobPanel extends EventTarget {
       img.height = 48;
       a.append(img);
     } else {
-      const placeholder = document.createElement("span");
-      placeholder.className = "thumb-empty";
-      placeholder.textContent = state.toLowerCase();
-      a.append(placeholder);
+      const stateBadge = document.createElement("span");
+      stateBadge.className = "thumb-empty";
+      stateBadge.textContent = state.toLowerCase();
+      a.append(stateBadge);
     }
     const text = document.createElement("span");
     const s = job.request?.settings;
