@@ -177,6 +177,7 @@ int GlbExporter::add_texture(int scene_texture) {
 }
 
 void GlbExporter::add_materials() {
+    bool transmissive = false;
     for (const Material& m : scene_.materials) {
         const vec3 base = glm::clamp(m.diffuse, 0.0f, 1.0f);
         Json pbr = {{"baseColorFactor", {base.r, base.g, base.b, 1.0f}},
@@ -190,8 +191,18 @@ void GlbExporter::add_materials() {
                                              {"specular", array3(m.specular)},
                                              {"shininess", m.shininess},
                                              {"reflectance", array3(m.reflectance)}};
+        // Glass as glTF has it, for viewers; opaque materials stay as they were.
+        if (m.transmission != vec3(0.0f)) {
+            material["extensions"]["KHR_materials_transmission"] = {
+                {"transmissionFactor", max_component(m.transmission)}};
+            material["extensions"]["KHR_materials_ior"] = {{"ior", m.ior}};
+            transmissive = true;
+        }
         doc_["materials"].push_back(std::move(material));
     }
+    if (transmissive)
+        for (const char* extension : {"KHR_materials_transmission", "KHR_materials_ior"})
+            doc_["extensionsUsed"].push_back(extension);
 }
 
 void GlbExporter::add_mesh() {

@@ -16,7 +16,8 @@ namespace rt {
 
 // Extensions that may appear in `extensionsRequired`: any other one changes the
 // meaning of the file in a way we would silently get wrong, so it is refused.
-inline constexpr const char* kSupportedGltfExtensions[] = {"KHR_lights_punctual"};
+inline constexpr const char* kSupportedGltfExtensions[] = {"KHR_lights_punctual", "KHR_materials_transmission",
+                                                          "KHR_materials_ior"};
 
 // The scene of a parsed model. Image payloads read from URIs are still encoded,
 // in tinygltf::Image::image; images in buffer views are read from there. Throws

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -10,6 +11,37 @@ namespace {
 
 std::string at(const char* array, size_t index) {
     return std::string(array) + "[" + std::to_string(index) + "]";
+}
+
+// A number member of a material extension: `fallback` when the extension or
+// the member is absent, NaN when it is not a number, so that it is refused.
+double extension_number(const tinygltf::Material& material, const char* extension, const char* member,
+                        double fallback) {
+    const auto found = material.extensions.find(extension);
+    if (found == material.extensions.end() || !found->second.IsObject() || !found->second.Has(member))
+        return fallback;
+    const tinygltf::Value& value = found->second.Get(member);
+    return value.IsNumber() ? value.GetNumberAsDouble() : std::nan("");
+}
+
+// KHR_materials_transmission and KHR_materials_ior make a smooth dielectric
+// (docs/materials.md). `label` names the material in errors and warnings.
+void read_dielectric(const tinygltf::Material& source, const std::string& label, Scene& scene, Material& out) {
+    const double transmission = extension_number(source, "KHR_materials_transmission", "transmissionFactor", 0.0);
+    if (!std::isfinite(transmission))
+        throw SceneError(label + ".extensions.KHR_materials_transmission.transmissionFactor is not a finite number");
+    const double ior = extension_number(source, "KHR_materials_ior", "ior", 1.5);
+    // Below 1 light would travel faster inside than in the air around it, and
+    // Snell's law would refract the wrong way: no glass is like that.
+    if (!std::isfinite(ior) || ior < 1.0 || ior > 1e6)
+        throw SceneError(label + ".extensions.KHR_materials_ior.ior is " + std::to_string(ior) +
+                         ", expected a number from 1 to 10^6");
+    out.transmission = vec3(float(std::clamp(transmission, 0.0, 1.0)));
+    out.ior = float(ior);
+    const auto found = source.extensions.find("KHR_materials_transmission");
+    if (found != source.extensions.end() && found->second.IsObject() && found->second.Has("transmissionTexture"))
+        scene.warnings.push_back(label + ".extensions.KHR_materials_transmission.transmissionTexture is ignored: "
+                                         "the factor alone sets the transmission");
 }
 
 }  // namespace
@@ -48,6 +80,9 @@ uint32_t GltfMaterials::material(int index, const std::string& what) {
     // first keeps 2 / alpha^2 from dividing by zero.
     out.shininess = alpha > 0.01f ? glm::clamp(2.0f / (alpha * alpha) - 2.0f, 1.0f, 10000.0f) : 10000.0f;
     out.reflectance = out.specular * (1.0f - roughness) * (1.0f - roughness);
+    std::string label = name_ + ": " + name;
+    if (!source.name.empty()) label.append(" ").append(in_quotes(source.name));
+    read_dielectric(source, label, scene_, out);
     if (pbr.baseColorTexture.index >= 0)
         out.diffuse_texture = texture(pbr.baseColorTexture, name + ".pbrMetallicRoughness.baseColorTexture");
     if (pbr.metallicRoughnessTexture.index >= 0)

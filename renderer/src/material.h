@@ -28,6 +28,11 @@ struct Material {
     vec3 specular{0.0f};      // Ks, weight of the normalized Phong lobe
     float shininess = 1.0f;   // Ns, Phong exponent
     vec3 reflectance{0.0f};   // Kr, weight of the mirror-reflected ray
+    // Share of the light that meets a smooth dielectric interface instead of
+    // the Phong surface: 0 is opaque. Fresnel splits it between a reflected and
+    // a refracted ray; the Phong terms keep 1 - transmission.
+    vec3 transmission{0.0f};
+    float ior = 1.5f;         // index of refraction inside, relative to outside
     int diffuse_texture = -1; // index into Scene::textures; multiplies `diffuse`
 };
 

@@ -102,8 +102,21 @@ Material ObjSceneBuilder::convert(const tinyobj::material_t& source) {
         fail(what + " has a Kd, Ks or Ns that is not a finite float");
     if (glm::any(glm::lessThan(kd, dvec3(0.0))) || glm::any(glm::lessThan(ks, dvec3(0.0))) || source.shininess < 0.0)
         fail(what + " has a negative Kd, Ks or Ns");
-    // The mapping and its reasons: docs/materials.md. Ni and d wait for refraction.
+    if (!fits_float(dvec3(source.dissolve)) || !fits_float(dvec3(source.ior)))
+        fail(what + " has a d, Tr or Ni that is not a finite float");
+    // The mapping and its reasons: docs/materials.md.
     Material out;
+    // MTL's dissolve becomes a clear dielectric's transmission, with Ni its
+    // index. Exporters write any Ni (often 0) for opaque materials: checked
+    // only where it is used.
+    const double dissolve = std::clamp(source.dissolve, 0.0, 1.0);
+    if (dissolve < 1.0) {
+        if (source.ior < 1.0)
+            fail(what + " is transparent (d < 1) with Ni " + std::to_string(source.ior) +
+                 ", expected an index of refraction of at least 1");
+        out.transmission = vec3(float(1.0 - dissolve));
+        out.ior = float(source.ior);
+    }
     out.name = source.name;
     out.diffuse = vec3(kd);
     out.specular = vec3(ks);

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "dielectric.h"
 #include "sampling.h"
 #include "spawn.h"
 #include "sphere_light.h"
@@ -9,12 +10,23 @@
 namespace rt {
 namespace {
 
+void count(RayCounts& counts, RayKind kind) {
+    (kind == PRIMARY ? counts.camera : kind == REFRACTION ? counts.refraction : counts.reflection) += 1;
+}
+
+// The mirror direction about the shading normal; a bent shading normal can
+// mirror below the surface, and then the true surface decides.
+vec3 mirror_direction(vec3 direction, const SurfaceHit& s) {
+    const vec3 mirrored = glm::reflect(direction, s.ns);
+    return glm::dot(mirrored, s.ng) > 0.0f ? mirrored : glm::reflect(direction, s.ng);
+}
+
 // The hot path: counts rays, records nothing.
 struct CountingRecorder {
     RayCounts& counts;
 
     int closest(const Accelerator& accel, const Ray& ray, RayKind kind, uint32_t, int, vec3, Hit& hit) {
-        (kind == PRIMARY ? counts.camera : counts.reflection) += 1;
+        count(counts, kind);
         accel.intersect(ray, hit);
         return -1;
     }
@@ -36,7 +48,7 @@ struct AuxRecorder {
     AuxSample& aux;
 
     int closest(const Accelerator& accel, const Ray& ray, RayKind kind, uint32_t, int, vec3, Hit& hit) {
-        (kind == PRIMARY ? counts.camera : counts.reflection) += 1;
+        count(counts, kind);
         accel.intersect(ray, hit, aux.cost);
         if (kind != PRIMARY) return -1;
         // Camera rays have unit directions: t is the distance.
@@ -154,13 +166,13 @@ WhittedIntegrator::WhittedIntegrator(const Accelerator& accel, const RenderSetti
 
 vec3 WhittedIntegrator::radiance(const Ray& ray, const PixelSampler& sampler, RayCounts& counts) const {
     CountingRecorder recorder{counts};
-    return trace(ray, 0, vec3(1.0f), -1, sampler, recorder);
+    return trace(ray, PRIMARY, 0, vec3(1.0f), -1, sampler, recorder);
 }
 
 vec3 WhittedIntegrator::radiance(const Ray& ray, const PixelSampler& sampler, RayCounts& counts,
                                  AuxSample& aux) const {
     AuxRecorder recorder{counts, aux};
-    return trace(ray, 0, vec3(1.0f), -1, sampler, recorder);
+    return trace(ray, PRIMARY, 0, vec3(1.0f), -1, sampler, recorder);
 }
 
 vec3 WhittedIntegrator::radiance(const Ray& ray, const PixelSampler& sampler, DebugPath& path) const {
@@ -168,7 +180,7 @@ vec3 WhittedIntegrator::radiance(const Ray& ray, const PixelSampler& sampler, De
     const float extent = bounds.empty() ? 1.0f : glm::length(bounds.extent());
     const float reach = bounds.empty() ? 1.0f : glm::length(bounds.center() - ray.origin);
     DebugRecorder recorder{path, reach + extent};
-    const vec3 color = trace(ray, 0, vec3(1.0f), -1, sampler, recorder);
+    const vec3 color = trace(ray, PRIMARY, 0, vec3(1.0f), -1, sampler, recorder);
     set_vec3(path.mutable_color(), color);
     return color;
 }
@@ -190,10 +202,10 @@ int WhittedIntegrator::nearest_light(const Ray& ray, float& t) const {
 }
 
 template <class Recorder>
-vec3 WhittedIntegrator::trace(const Ray& ray, uint32_t depth, vec3 weight, int parent,
+vec3 WhittedIntegrator::trace(const Ray& ray, RayKind kind, uint32_t depth, vec3 weight, int parent,
                               const PixelSampler& sampler, Recorder& recorder) const {
     Hit hit;
-    const int segment = recorder.closest(accel_, ray, depth == 0 ? PRIMARY : REFLECTION, depth, parent, weight, hit);
+    const int segment = recorder.closest(accel_, ray, kind, depth, parent, weight, hit);
     if (!sphere_lights_.empty()) {
         float t = 0.0f;
         const int index = nearest_light(Ray{ray.origin, ray.direction, hit.t}, t);
@@ -207,6 +219,10 @@ vec3 WhittedIntegrator::trace(const Ray& ray, uint32_t depth, vec3 weight, int p
     if (!hit.found()) return scene_.background;
 
     SurfaceHit s = surface_at(scene_, ray, hit);
+    // Inside or outside is the authored normals' side (as face_viewer orients
+    // them before it turns both towards the viewer and forgets it).
+    const vec3 outward = glm::dot(s.ns, s.ng) < 0.0f ? -s.ng : s.ng;
+    const bool entering = glm::dot(outward, ray.direction) < 0.0f;
     const vec3 wo = -ray.direction;
     face_viewer(s, wo);
     const Material& m = scene_.materials[s.material];
@@ -214,27 +230,65 @@ vec3 WhittedIntegrator::trace(const Ray& ray, uint32_t depth, vec3 weight, int p
     if (m.diffuse_texture >= 0) diffuse *= scene_.textures[size_t(m.diffuse_texture)].sample(s.uv);
     recorder.surface(segment, s, hit, m, diffuse);
 
-    vec3 color = direct_light(s, wo, m, diffuse, depth, segment, sampler, recorder);
+    // Light that passes the dielectric interface never reaches the Phong
+    // surface; an opaque material's opacity of exactly 1 leaves it unchanged.
+    vec3 color = direct_light(s, wo, m, diffuse, vec3(1.0f) - m.transmission, depth, segment, sampler, recorder);
     recorder.contribution(segment, color);
 
-    // Reflect only while the reflected light can still show in the pixel: the
-    // product of reflectances along the path, not just this surface's (seed 3.3).
-    const vec3 reflected_weight = weight * m.reflectance;
-    if (depth < max_depth_ && max_component(reflected_weight) > min_contribution_) {
-        vec3 direction = glm::reflect(ray.direction, s.ns);
-        // A bent shading normal can mirror below the surface; the true surface decides.
-        if (glm::dot(direction, s.ng) <= 0.0f) direction = glm::reflect(ray.direction, s.ng);
-        const Ray reflected = spawn_ray(s.p, s.p_error, s.ng, direction);
-        color += m.reflectance * trace(reflected, depth + 1, reflected_weight, segment, sampler.bounce(depth + 1),
-                                       recorder);
+    vec3 mirror = m.reflectance;
+    if (m.transmission != vec3(0.0f))
+        color += transmitted(s, entering, wo, m, mirror, depth, weight, segment, sampler, recorder);
+    return color + follow(s, mirror_direction(ray.direction, s), REFLECTION, mirror, depth, weight, segment, sampler,
+                          recorder);
+}
+
+template <class Recorder>
+vec3 WhittedIntegrator::follow(const SurfaceHit& s, vec3 direction, RayKind kind, vec3 local_weight, uint32_t depth,
+                               vec3 weight, int parent, const PixelSampler& sampler, Recorder& recorder) const {
+    // Follow only while the light can still show in the pixel: the product of
+    // weights along the path, not just this surface's (seed 3.3).
+    const vec3 path_weight = weight * local_weight;
+    if (depth >= max_depth_ || !(max_component(path_weight) > min_contribution_)) return vec3(0.0f);
+    // spawn_ray offsets to the side `direction` leaves on: through the surface
+    // for a refracted ray.
+    const Ray ray = spawn_ray(s.p, s.p_error, s.ng, direction);
+    return local_weight * trace(ray, kind, depth + 1, path_weight, parent, sampler.bounce(depth + 1), recorder);
+}
+
+template <class Recorder>
+vec3 WhittedIntegrator::transmitted(const SurfaceHit& s, bool entering, vec3 wo, const Material& m, vec3& mirror,
+                                    uint32_t depth, vec3 weight, int parent, const PixelSampler& sampler,
+                                    Recorder& recorder) const {
+    // Both normals face the viewer, so eta is taken relative to the side the
+    // ray comes from. Media are not tracked: a surface inside glass still sees
+    // air on its outside. Radiance is not scaled by 1/eta^2 across the
+    // interface (Whitted's model; it cancels for a closed object anyway).
+    const float eta = entering ? m.ior : 1.0f / m.ior;
+    vec3 n = s.ns;
+    vec3 direction(0.0f);
+    bool refracted = refract(wo, n, eta, direction);
+    // A bent shading normal can refract to the viewer's side of the true
+    // surface: then the true surface decides.
+    if (refracted && glm::dot(direction, s.ng) >= 0.0f) {
+        n = s.ng;
+        refracted = refract(wo, n, eta, direction);
     }
-    return color;
+    if (!refracted) {  // total internal reflection: all of the transmitted share reflects
+        mirror += m.transmission;
+        return vec3(0.0f);
+    }
+    const float reflectance = fr_dielectric(glm::dot(wo, n), eta);
+    mirror += reflectance * m.transmission;
+    return follow(s, direction, REFRACTION, (1.0f - reflectance) * m.transmission, depth, weight, parent, sampler,
+                  recorder);
 }
 
 template <class Recorder>
 vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Material& m, vec3 diffuse,
-                                     uint32_t depth, int parent, const PixelSampler& sampler,
+                                     vec3 opacity, uint32_t depth, int parent, const PixelSampler& sampler,
                                      Recorder& recorder) const {
+    // Shadow rays stay opaque: a transmissive occluder blocks the light, as in
+    // Whitted's model (caustics through glass are beyond it).
     vec3 color(0.0f);
     for (size_t light_index = 0; light_index < scene_.lights.size(); ++light_index) {
         const Light& light = scene_.lights[light_index];
@@ -252,7 +306,7 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Materia
                                                depth, parent, occluded);
             if (occluded) continue;
             const vec3 c = phong_brdf(diffuse, m.specular, m.shininess, s.ns, wo, wi) *
-                           (light.intensity * (cos_theta / distance_squared));
+                           (light.intensity * (cos_theta / distance_squared)) * opacity;
             recorder.contribution(shadow, c);
             color += c;
             continue;
@@ -272,7 +326,7 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Materia
                                                parent, occluded);
             if (occluded) continue;
             const vec3 c = phong_brdf(diffuse, m.specular, m.shininess, s.ns, wo, sample.wi) * sample.weight *
-                           (cos_theta / float(light_samples_));
+                           (cos_theta / float(light_samples_)) * opacity;
             recorder.contribution(shadow, c);
             sum += c;
         }

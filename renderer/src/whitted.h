@@ -1,7 +1,8 @@
 // The Whitted integrator of the origin document: Phong shading from every light
 // with shadow rays (sections 2, 4, 5), plus recursive mirror reflection (section
-// 3) cut off when the path weight can no longer change the pixel. Spherical
-// lights are also seen: a camera or reflection ray that meets one returns its
+// 3) and refraction through smooth dielectrics (docs/materials.md), both cut off
+// when the path weight can no longer change the pixel. Spherical lights are
+// also seen: a camera, reflection or refraction ray that meets one returns its
 // radiance.
 #pragma once
 
@@ -22,12 +23,14 @@ struct RayCounts {
     uint64_t camera = 0;
     uint64_t reflection = 0;
     uint64_t shadow = 0;
+    uint64_t refraction = 0;
 
-    uint64_t total() const { return camera + reflection + shadow; }
+    uint64_t total() const { return camera + reflection + shadow + refraction; }
     RayCounts& operator+=(const RayCounts& o) {
         camera += o.camera;
         reflection += o.reflection;
         shadow += o.shadow;
+        refraction += o.refraction;
         return *this;
     }
 };
@@ -51,10 +54,19 @@ class WhittedIntegrator {
 
   private:
     template <class Recorder>
-    vec3 trace(const Ray& ray, uint32_t depth, vec3 weight, int parent, const PixelSampler& sampler,
+    vec3 trace(const Ray& ray, RayKind kind, uint32_t depth, vec3 weight, int parent, const PixelSampler& sampler,
                Recorder& recorder) const;
+    // Follows a secondary ray of `kind` when its path weight can still show.
     template <class Recorder>
-    vec3 direct_light(const SurfaceHit& s, vec3 wo, const Material& m, vec3 diffuse, uint32_t depth,
+    vec3 follow(const SurfaceHit& s, vec3 direction, RayKind kind, vec3 local_weight, uint32_t depth, vec3 weight,
+                int parent, const PixelSampler& sampler, Recorder& recorder) const;
+    // The light a transmissive surface lets through: the refracted ray's
+    // radiance times its weight. Adds the Fresnel-reflected share to `mirror`.
+    template <class Recorder>
+    vec3 transmitted(const SurfaceHit& s, bool entering, vec3 wo, const Material& m, vec3& mirror, uint32_t depth,
+                     vec3 weight, int parent, const PixelSampler& sampler, Recorder& recorder) const;
+    template <class Recorder>
+    vec3 direct_light(const SurfaceHit& s, vec3 wo, const Material& m, vec3 diffuse, vec3 opacity, uint32_t depth,
                       int parent, const PixelSampler& sampler, Recorder& recorder) const;
     // The nearest spherical light `ray` meets before ray.t_max, or -1; its distance in `t`.
     int nearest_light(const Ray& ray, float& t) const;

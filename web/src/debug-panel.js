@@ -162,7 +162,7 @@ export class DebugPanel extends EventTarget {
     const rows = [
       ["Pixel", `(${path.pixelX}, ${path.pixelY})`],
       ["Colour (linear)", `(${color})`],
-      ["Rays traced", `${s.rays}: ${s.primary} primary, ${s.reflection} reflection, ${s.shadow} shadow`],
+      ["Rays traced", `${s.rays}: ${s.primary} primary, ${s.reflection} reflection, ${s.refraction} refraction, ${s.shadow} shadow`],
       ["Shadow samples taken", String(s.shadow)],
       ["BVH nodes visited", s.nodes.toLocaleString()],
       ["Triangles tested", s.triangles.toLocaleString()],

@@ -7,6 +7,7 @@ import { enumName } from "./proto.js";
 export const CATEGORIES = [
   { id: "primary", label: "Primary ray", color: "#f2f2f2" },
   { id: "reflection", label: "Reflection", color: "#35c8ff" },
+  { id: "refraction", label: "Refraction", color: "#5cffc8" },
   { id: "miss", label: "Left the scene (miss)", color: "#7d8694" },
   { id: "shadow-lit", label: "Shadow ray reached the light", color: "#ffd24a" },
   { id: "shadow-blocked", label: "Shadow ray blocked", color: "#ff4d4d" },
@@ -37,13 +38,13 @@ export function categorize(segments, lights) {
       return soft ? (lit ? "soft-lit" : "soft-blocked") : (lit ? "shadow-lit" : "shadow-blocked");
     }
     if (outcome === "MISS") return "miss";
-    return kind === "PRIMARY" ? "primary" : "reflection";
+    return kind === "PRIMARY" ? "primary" : kind === "REFRACTION" ? "refraction" : "reflection";
   });
 }
 
 /** Sums over a path: rays by kind, BVH nodes visited, triangles tested. */
 export function pathStats(path) {
-  const stats = { rays: path.segments.length, primary: 0, reflection: 0, shadow: 0, nodes: 0, triangles: 0 };
+  const stats = { rays: path.segments.length, primary: 0, reflection: 0, refraction: 0, shadow: 0, nodes: 0, triangles: 0 };
   for (const s of path.segments) {
     stats[enumName("RayKind", s.kind).toLowerCase()] += 1;
     stats.nodes += s.visitedNodes.length;
