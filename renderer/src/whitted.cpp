@@ -30,7 +30,7 @@ struct CountingRecorder {
         accel.intersect(ray, hit);
         return -1;
     }
-    int shadow(const Accelerator& accel, const Ray& ray, uint32_t, int, bool& occluded) {
+    int shadow(const Accelerator& accel, const Ray& ray, uint32_t, int, uint32_t, bool& occluded) {
         ++counts.shadow;
         occluded = accel.occluded(ray);
         return -1;
@@ -55,7 +55,7 @@ struct AuxRecorder {
         if (hit.found()) aux.depth = hit.t;
         return 0;
     }
-    int shadow(const Accelerator& accel, const Ray& ray, uint32_t, int, bool& occluded) {
+    int shadow(const Accelerator& accel, const Ray& ray, uint32_t, int, uint32_t, bool& occluded) {
         ++counts.shadow;
         occluded = accel.occluded(ray, aux.cost);
         return -1;
@@ -109,11 +109,13 @@ struct DebugRecorder {
         set_vec3(segment.mutable_weight(), weight);
         return path.segments_size() - 1;
     }
-    int shadow(const Accelerator& accel, const Ray& ray, uint32_t depth, int parent, bool& occluded) {
+    int shadow(const Accelerator& accel, const Ray& ray, uint32_t depth, int parent, uint32_t light,
+               bool& occluded) {
         TraversalRecord record;
         occluded = accel.occluded(ray, record);
         RaySegment& segment = add(ray, SHADOW, depth, parent, record);
         segment.set_outcome(occluded ? OCCLUDED : REACHED_LIGHT);
+        segment.set_light(light);
         segment.set_t(ray.t_max);
         set_vec3(segment.mutable_end(), ray.at(ray.t_max));
         return path.segments_size() - 1;
@@ -303,7 +305,7 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Materia
             if (cos_theta <= 0.0f || glm::dot(s.ng, wi) <= 0.0f) continue;
             bool occluded = false;
             const int shadow = recorder.shadow(accel_, spawn_ray_to(s.p, s.p_error, s.ng, light.position),
-                                               depth, parent, occluded);
+                                               depth, parent, uint32_t(light_index), occluded);
             if (occluded) continue;
             const vec3 c = phong_brdf(diffuse, m.specular, m.shininess, s.ns, wo, wi) *
                            (light.intensity * (cos_theta / distance_squared)) * opacity;
@@ -323,7 +325,7 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Materia
             if (cos_theta <= 0.0f || glm::dot(s.ng, sample.wi) <= 0.0f) continue;
             bool occluded = false;
             const int shadow = recorder.shadow(accel_, spawn_ray_to(s.p, s.p_error, s.ng, sample.point), depth,
-                                               parent, occluded);
+                                               parent, uint32_t(light_index), occluded);
             if (occluded) continue;
             const vec3 c = phong_brdf(diffuse, m.specular, m.shininess, s.ns, wo, sample.wi) * sample.weight *
                            (cos_theta / float(light_samples_)) * opacity;

@@ -308,3 +308,22 @@ def test_one_sample_per_pixel_is_the_default_image(cornell):
     smooth = cornell.render_tile(camera, settings(samples_per_pixel=16, pixel_filter=render_pb2.BOX), 0, 0, 48, 36)
     assert not np.array_equal(smooth, default), "16 samples per pixel smooth the box's edges"
     np.testing.assert_allclose(smooth.mean(), default.mean(), rtol=0.05)
+
+
+def test_shadow_rays_name_the_light_they_aim_at(scenes_dir, tmp_path):
+    import shutil
+
+    for name in ("cornell.obj", "cornell.mtl"):
+        shutil.copy(scenes_dir / name, tmp_path / name)
+    point, sphere = [0.0, 1.9, 0.0], [0.3, 1.7, 0.2]
+    (tmp_path / "cornell.rt.json").write_text(json.dumps({"lights": [
+        {"position": point, "intensity": 1}, {"position": sphere, "intensity": 1, "radius": 0.05}]}))
+    scene = rtcore.Scene.load(str(tmp_path / "cornell.obj"))
+    path = debug_pb2.DebugPath.FromString(scene.debug_path(scene.default_camera, settings(light_samples=4), 24, 30))
+    shadows = [s for s in path.segments if s.kind == debug_pb2.SHADOW]
+    assert {s.light for s in shadows} == {0, 1}, "the floor pixel sends shadow rays to both lights"
+    for s in shadows:
+        aim = np.array(point if s.light == 0 else sphere)
+        reach = 1e-4 if s.light == 0 else 0.05 * 1.001
+        assert np.linalg.norm(np.array(s.end) - aim) <= reach
+    assert sum(s.light == 1 for s in shadows) == 4, "light_samples rays at the spherical light"

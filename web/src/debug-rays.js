@@ -18,22 +18,16 @@ export const CATEGORIES = [
 const COLORS = Object.fromEntries(CATEGORIES.map((c) => [c.id, new THREE.Color(c.color)]));
 
 /**
- * The category of each segment. A shadow ray is a soft-shadow sample when it
- * aims at a spherical light (its end lies on or in the light's sphere) or when
- * its parent sent more shadow rays than the scene has lights.
+ * The category of each segment. A shadow ray is a soft-shadow sample when the
+ * light it aims at (its `light` index into the scene's lights) is spherical.
  */
 export function categorize(segments, lights) {
-  const shadowChildren = new Map();
-  for (const s of segments) {
-    if (enumName("RayKind", s.kind) === "SHADOW") shadowChildren.set(s.parent, (shadowChildren.get(s.parent) ?? 0) + 1);
-  }
-  const spheres = lights.filter((l) => l.radius > 0);
-  const onSphere = (p) => spheres.some((l) => Math.hypot(p[0] - l.position[0], p[1] - l.position[1], p[2] - l.position[2]) <= l.radius * 1.01 + 1e-6);
   return segments.map((s) => {
     const kind = enumName("RayKind", s.kind);
     const outcome = enumName("RayOutcome", s.outcome);
     if (kind === "SHADOW") {
-      const soft = onSphere(s.end) || (shadowChildren.get(s.parent) ?? 0) > Math.max(lights.length, 1);
+      // Each shadow ray names the light it aims at: a spherical light's rays are soft-shadow samples.
+      const soft = (lights[s.light]?.radius ?? 0) > 0;
       const lit = outcome === "REACHED_LIGHT";
       return soft ? (lit ? "soft-lit" : "soft-blocked") : (lit ? "shadow-lit" : "shadow-blocked");
     }
