@@ -51,3 +51,14 @@ def test_the_websocket_refuses_without_the_token(guarded):
 
 def test_the_viewer_and_docs_need_no_token(guarded):
     assert guarded.get("/openapi.json").status_code == 200
+
+
+def test_uploads_over_the_limit_are_refused_before_they_are_read(tmp_path):
+    settings = service_settings(tmp_path, max_upload_bytes=1000)
+    with TestClient(create_app(settings)) as client:
+        response = client.post("/api/scenes", files={"file": ("big.obj", b"v 0 0 0\n" * 400_000)})
+        assert response.status_code == 413 and "over this server's limit of 1000 bytes" in response.json()["detail"]
+        small_but_over = client.post("/api/scenes", files={"file": ("s.obj", b"v 0 0 0\n" * 200)})
+        assert small_but_over.status_code == 413, "the streamed count catches what the header check lets by"
+        assert client.get("/api/scenes").json()["scenes"] == []
+        assert not any((settings.scenes_dir).iterdir()), "nothing is left on disk"
