@@ -140,7 +140,9 @@ def _receive(stream: BinaryIO, target: Path, max_bytes: int) -> tuple[int, str]:
 
 @contextmanager
 def _reading_zip() -> Iterator[None]:
-    """zipfile reports a damaged archive through many exception types: each is a 400."""
+    """zipfile reports a damaged archive through many exception types: each is a 400.
+    (It raises NotImplementedError for a compression method it does not know,
+    which in a hostile upload is as good as damage.)"""
     try:
         yield
     except UploadError:
