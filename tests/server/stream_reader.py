@@ -29,9 +29,8 @@ def assemble(messages, width: int, height: int) -> np.ndarray:
     for message in messages:
         if message.WhichOneof("message") != "tile":
             continue
-        t = message.tile
-        s = t.scale
-        samples = np.frombuffer(t.pixels, np.uint8).reshape(-(-t.h // s), -(-t.w // s), 4)
+        t, s = message.tile.region, message.tile.scale
+        samples = np.frombuffer(message.tile.pixels, np.uint8).reshape(-(-t.h // s), -(-t.w // s), 4)
         block = np.repeat(np.repeat(samples, s, axis=0), s, axis=1)[:t.h, :t.w]
         canvas[t.y:t.y + t.h, t.x:t.x + t.w] = block
     return canvas

@@ -35,12 +35,12 @@ def test_a_minimal_job_renders_and_its_stream_equals_image_png(client, cornell_i
     assert int(done["rays"]) > 300 * 240 and done["finished_at"] >= done["started_at"] > 0
     # Every tile exactly once per pass, covering the image.
     for pass_index in range(done["passes"]):
-        rects = [(t.tile.x, t.tile.y) for t in tiles if getattr(t.tile, "pass") == pass_index]
+        rects = [(t.tile.region.x, t.tile.region.y) for t in tiles if getattr(t.tile.region, "pass") == pass_index]
         assert len(rects) == len(set(rects))
     assert len(tiles) == done["tiles_total"]
     # Workers announce tiles as they start them; an announcement never follows its tile.
     assert started, "no tile was announced as started"
-    finished_at = {(getattr(m.tile, "pass"), m.tile.x, m.tile.y): i for i, m in enumerate(messages)
+    finished_at = {(getattr(m.tile.region, "pass"), m.tile.region.x, m.tile.region.y): i for i, m in enumerate(messages)
                    if m.WhichOneof("message") == "tile"}
     for i, m in enumerate(messages):
         if m.WhichOneof("message") == "started":

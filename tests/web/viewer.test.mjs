@@ -108,7 +108,7 @@ describe("rt viewer", { timeout: 170_000 }, () => {
         const data = ctx.getImageData(0, 0, canvas.width, canvas.height).data;
         let sum = 0;
         for (let i = 0; i < data.length; i += 4) sum = (sum * 31 + data[i] + data[i + 1] * 7 + data[i + 2] * 13) >>> 0;
-        window.__paints.push({ received: e.detail.received, sum, pass: e.detail.tiles.map((t) => t.pass) });
+        window.__paints.push({ received: e.detail.received, sum, pass: e.detail.tiles.map((t) => t.region.pass) });
       });
       // Tiles the workers announced: the overlay outlines each until its pixels arrive.
       window.__outlined = 0;

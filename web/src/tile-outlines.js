@@ -1,5 +1,5 @@
 // Outlines over the image: the tiles being rendered now and the pixel being
-// debugged. Workers announce each tile they start (rt.TileStarted on the tile
+// debugged. Workers announce each tile they start (a TileRegion on the tile
 // stream); a tile is outlined from then until its pixels arrive.
 
 const keyOf = (t) => `${t.pass},${t.x},${t.y}`;
@@ -15,9 +15,9 @@ export class RunningTiles {
   }
 
   finish(tiles) {
-    for (const tile of tiles) {
-      this.rects.delete(keyOf(tile));
-      this.finished.add(keyOf(tile));
+    for (const { region } of tiles) {
+      this.rects.delete(keyOf(region));
+      this.finished.add(keyOf(region));
     }
   }
 

@@ -86,18 +86,19 @@ export class TileView extends EventTarget {
   }
 
   _draw(tile) {
+    const { x, y, w, h } = tile.region;
     const scale = Math.max(tile.scale, 1);
-    const sw = Math.ceil(tile.w / scale);
-    const sh = Math.ceil(tile.h / scale);
+    const sw = Math.ceil(w / scale);
+    const sh = Math.ceil(h / scale);
     if (tile.pixels.length !== sw * sh * 4) {
       this.dispatchEvent(new CustomEvent("streamerror", {
-        detail: `tile at (${tile.x}, ${tile.y}) has ${tile.pixels.length} bytes, expected ${sw * sh * 4}`,
+        detail: `tile at (${x}, ${y}) has ${tile.pixels.length} bytes, expected ${sw * sh * 4}`,
       }));
       return;
     }
     const image = new ImageData(new Uint8ClampedArray(tile.pixels), sw, sh);
     if (scale === 1) {
-      this.ctx.putImageData(image, tile.x, tile.y);
+      this.ctx.putImageData(image, x, y);
       return;
     }
     this.scratch.width = sw;
@@ -106,10 +107,10 @@ export class TileView extends EventTarget {
     const ctx = this.ctx;
     ctx.save();
     ctx.beginPath();
-    ctx.rect(tile.x, tile.y, tile.w, tile.h);
+    ctx.rect(x, y, w, h);
     ctx.clip();
     ctx.imageSmoothingEnabled = false;
-    ctx.drawImage(this.scratch, 0, 0, sw, sh, tile.x, tile.y, sw * scale, sh * scale);
+    ctx.drawImage(this.scratch, 0, 0, sw, sh, x, y, sw * scale, sh * scale);
     ctx.restore();
   }
 

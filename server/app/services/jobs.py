@@ -66,8 +66,7 @@ class JobManager:
         found = self._tiles.get(event[1])
         if found is not None:  # not when the tile's result came first
             running, spec = found
-            started = job_pb2.TileStarted(**{"pass": spec.pass_index}, x=spec.x, y=spec.y, w=spec.w, h=spec.h)
-            await running.stream.publish(job_pb2.TileStreamMessage(started=started))
+            await running.stream.publish(job_pb2.TileStreamMessage(started=spec.region()))
 
     # --- requests -----------------------------------------------------------
 
@@ -203,8 +202,7 @@ class JobManager:
                     job.state = job_pb2.RUNNING
                     job.started_at = result["started"]
                 pixels = image.add(spec, result["layers"])
-                tile = job_pb2.Tile(job=job.id, **{"pass": spec.pass_index}, x=spec.x, y=spec.y, w=spec.w,
-                                    h=spec.h, scale=spec.scale, pixels=pixels)
+                tile = job_pb2.Tile(job=job.id, region=spec.region(), scale=spec.scale, pixels=pixels)
                 await running.stream.publish(job_pb2.TileStreamMessage(tile=tile))
                 job.tiles_done += 1
                 samples_done += spec.samples
@@ -247,8 +245,8 @@ def final_image_stream(job: job_pb2.Job, rgba) -> list[bytes]:
     messages = []
     if rgba is not None:
         h, w = rgba.shape[:2]
-        tile = job_pb2.Tile(job=job.id, **{"pass": max(job.passes, 1) - 1}, x=0, y=0, w=w, h=h, scale=1,
-                            pixels=rgba.tobytes())
+        region = job_pb2.TileRegion(**{"pass": max(job.passes, 1) - 1}, x=0, y=0, w=w, h=h)
+        tile = job_pb2.Tile(job=job.id, region=region, scale=1, pixels=rgba.tobytes())
         messages.append(job_pb2.TileStreamMessage(tile=tile).SerializeToString())
     messages.append(job_pb2.TileStreamMessage(end=job).SerializeToString())
     return messages

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from rt import job_pb2
+
 PREVIEW_SCALE = 8
 PREVIEW_MIN_PIXELS = 256 * 256   # smaller images are fast enough without a preview
 PREVIEW_TILE = 512
@@ -31,6 +33,9 @@ class TileSpec:
     h: int
     scale: int
     priority: int
+
+    def region(self) -> job_pb2.TileRegion:
+        return job_pb2.TileRegion(**{"pass": self.pass_index}, x=self.x, y=self.y, w=self.w, h=self.h)
 
     @property
     def samples(self) -> int:
