@@ -1,11 +1,14 @@
 """Shared fixtures: where the build put the renderer and the sample scenes."""
+import os
 from pathlib import Path
 
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 BUILD = ROOT / "build"
-SCENES = BUILD / "scenes"
+# A build of one's own beside the shared one: RT_SCENES_DIR, RT_RTRENDER.
+SCENES = Path(os.environ.get("RT_SCENES_DIR", BUILD / "scenes"))
+RTRENDER = Path(os.environ.get("RT_RTRENDER", BUILD / "rtrender"))
 
 
 @pytest.fixture(scope="session")
@@ -17,7 +20,6 @@ def scenes_dir() -> Path:
 
 @pytest.fixture(scope="session")
 def rtrender() -> Path:
-    binary = BUILD / "rtrender"
-    if not binary.exists():
-        pytest.fail(f"{binary} missing: run `make build`")
-    return binary
+    if not RTRENDER.exists():
+        pytest.fail(f"{RTRENDER} missing: run `make build`")
+    return RTRENDER

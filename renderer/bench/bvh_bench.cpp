@@ -195,7 +195,7 @@ Rays make_rays(const Scene& scene, const Accelerator& accel, uint32_t size) {
         Hit hit;
         if (!accel.intersect(ray, hit)) continue;
         const SurfaceHit s = surface_at(scene, ray, hit);
-        rays.shadow.push_back(spawn_ray_to(s.p, s.p_error, s.ng, light));
+        rays.shadow.push_back(spawn_ray_to(s.p, s.p_error, s.ng, light, s.time));
     }
     return rays;
 }

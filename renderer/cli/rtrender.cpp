@@ -20,6 +20,7 @@
 
 #include "accel.h"
 #include "aov.h"
+#include "bloom.h"
 #include "default_camera.h"
 #include "image.h"
 #include "loader.h"
@@ -75,7 +76,8 @@ void print_help() {
         "usage: rtrender SCENE -o OUT.png|OUT.exr [options]\n"
         "\n"
         "Renders SCENE (.gltf, .glb or .obj, with an optional SCENE-stem.rt.json sidecar).\n"
-        "PNG is written as sRGB 8-bit, EXR as linear float.\n"
+        "PNG is written as sRGB 8-bit (after --exposure and --tone-map), EXR as linear\n"
+        "float; both after bloom (--bloom-strength above 0).\n"
         "\n"
         "options:\n"
         "  -o, --output FILE        image to write (.png or .exr)\n"
@@ -303,11 +305,13 @@ int run(const Options& options) {
     rt::RenderStats counts;
     rt::AuxImage aux(renderer.settings().width(), renderer.settings().height(), options.aux);
     const auto start = std::chrono::steady_clock::now();
-    const rt::Image image = renderer.render(options.threads, options.tile_size,
-                                            [&](size_t done, size_t total) { bar.update(done, total); }, counts,
-                                            &aux);
+    rt::Image image = renderer.render(options.threads, options.tile_size,
+                                      [&](size_t done, size_t total) { bar.update(done, total); }, counts, &aux);
     const double render_ms = milliseconds_since(start);
-    rt::write_image(options.output, image, &aux);
+    const auto bloom_start = std::chrono::steady_clock::now();
+    rt::apply_bloom(image, renderer.settings());
+    const double bloom_ms = milliseconds_since(bloom_start);
+    rt::write_image(options.output, image, &aux, rt::DisplayTransform::from(renderer.settings()));
 
     const auto& stats = accel.stats();
     std::printf("rtrender: %zu triangles, %zu spheres, BVH %zu nodes depth %u, build %.1f ms, "
@@ -316,6 +320,7 @@ int run(const Options& options) {
                 double(counts.rays.total()) / (render_ms * 1e3),
                 static_cast<unsigned long long>(counts.rays.total()),
                 double(counts.samples) / (double(image.width) * image.height), options.output.c_str());
+    if (renderer.settings().bloom_strength() > 0.0f) std::printf("rtrender: bloom %.1f ms\n", bloom_ms);
     return 0;
 }
 

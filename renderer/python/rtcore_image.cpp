@@ -1,10 +1,12 @@
-// Images from Python: the 8-bit sRGB encoding and the EXR writer the CLI uses,
-// so the job service's tiles, image.png and image.exr match rtrender's output.
+// Images from Python: bloom, the 8-bit display encoding and the EXR writer the
+// CLI uses, so the job service's tiles, image.png and image.exr match
+// rtrender's output.
 #include "rtcore_image.h"
 
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nanobind/ndarray.h>
@@ -12,6 +14,8 @@
 #include <nanobind/stl/string.h>
 
 #include "aov.h"
+#include "bloom.h"
+#include "display.h"
 #include "image.h"
 #include "rtcore_convert.h"
 
@@ -19,33 +23,49 @@ namespace rtcore {
 namespace {
 
 using namespace nb::literals;
-using Rgb = nb::ndarray<const float, nb::ndim<3>, nb::c_contig, nb::device::cpu>;
+using Rgb = nb::ndarray<const float, nb::c_contig, nb::device::cpu>;
 using Layer = nb::ndarray<const float, nb::c_contig, nb::device::cpu>;
 
-void check_rgb(const Rgb& rgb, const char* what) {
-    if (rgb.shape(2) != 3)
-        throw std::invalid_argument(std::string(what) + ": expected an (height, width, 3) array, got " +
-                                    std::to_string(rgb.shape(2)) + " channels");
+// The (height, width) of an (height, width, 3) array; ValueError naming the
+// function and the shape it got otherwise.
+std::pair<size_t, size_t> rgb_size(const Rgb& rgb, const char* what) {
+    if (rgb.ndim() != 3 || rgb.shape(2) != 3) {
+        std::string shape;
+        for (size_t i = 0; i < rgb.ndim(); ++i) shape += (i ? ", " : "") + std::to_string(rgb.shape(i));
+        throw std::invalid_argument(std::string(what) + "(): expected an (height, width, 3) array, got shape (" +
+                                    shape + ")");
+    }
+    return {rgb.shape(0), rgb.shape(1)};
 }
 
-nb::ndarray<nb::numpy, uint8_t> encode_srgb8(const Rgb& rgb) {
-    check_rgb(rgb, "encode_srgb8");
-    const size_t h = rgb.shape(0), w = rgb.shape(1), pixels = h * w;
-    std::vector<uint8_t> rgba(pixels * 4);
+nb::ndarray<nb::numpy, uint8_t> encode_srgb8(const Rgb& rgb, nb::handle settings) {
+    const auto [h, w] = rgb_size(rgb, "encode_srgb8");
+    const rt::DisplayTransform display =
+        settings.is_none() ? rt::DisplayTransform{}
+                           : rt::DisplayTransform::from(read_message<rt::RenderSettings>(settings, "settings"));
+    std::vector<uint8_t> rgba(h * w * 4);
     {
         nb::gil_scoped_release release;
-        const float* in = rgb.data();
-        for (size_t p = 0; p < pixels; ++p) {
-            for (int c = 0; c < 3; ++c) rgba[4 * p + c] = rt::srgb8(in[3 * p + c]);
-            rgba[4 * p + 3] = 255;
-        }
+        rt::encode_srgb8({rgb.data(), h * w * 3}, display, rgba);
     }
     return to_numpy(std::move(rgba), {h, w, 4});
 }
 
+nb::ndarray<nb::numpy, float> apply_bloom(const Rgb& rgb, nb::handle settings) {
+    const auto [h, w] = rgb_size(rgb, "apply_bloom");
+    const auto bloom = read_message<rt::RenderSettings>(settings, "settings");
+    rt::Image image(static_cast<uint32_t>(w), static_cast<uint32_t>(h));
+    {
+        nb::gil_scoped_release release;
+        std::copy(rgb.data(), rgb.data() + h * w * 3, image.rgb.begin());
+        rt::apply_bloom(image, bloom);
+    }
+    return to_numpy(std::move(image.rgb), {h, w, 3});
+}
+
 void write_exr(const std::string& path, const Rgb& color, const std::map<std::string, Layer>& aux) {
-    check_rgb(color, "write_exr");
-    const uint32_t h = uint32_t(color.shape(0)), w = uint32_t(color.shape(1));
+    const auto [height, width] = rgb_size(color, "write_exr");
+    const uint32_t h = uint32_t(height), w = uint32_t(width);
     const size_t pixels = size_t(w) * h;
     rt::Image image(w, h);
     std::copy(color.data(), color.data() + pixels * 3, image.rgb.begin());
@@ -77,8 +97,15 @@ void write_exr(const std::string& path, const Rgb& color, const std::map<std::st
 }  // namespace
 
 void bind_images(nb::module_& m) {
-    m.def("encode_srgb8", &encode_srgb8, "rgb"_a,
-          "Linear RGB float32 (h, w, 3) as 8-bit sRGB RGBA (h, w, 4), rounded exactly as rtrender's PNG.");
+    m.def("encode_srgb8", &encode_srgb8, "rgb"_a, "settings"_a = nb::none(),
+          "Linear RGB float32 (h, w, 3) as 8-bit sRGB RGBA (h, w, 4), byte for byte as rtrender's PNG: "
+          "scaled by 2^exposure and tone mapped as the settings (rt.RenderSettings, bytes or JSON) say; "
+          "None: exposure 0, CLIP.");
+    m.def("apply_bloom", &apply_bloom, "rgb"_a, "settings"_a.none(),
+          "A new linear RGB float32 (h, w, 3) array: rgb with the settings' bloom (bloom_threshold, "
+          "bloom_radius, bloom_strength of rt.RenderSettings, bytes or JSON; width and height are the "
+          "array's), as rtrender applies it before writing. The image's sum is unchanged; strength 0 "
+          "returns a copy.");
     m.def("write_exr", &write_exr, "path"_a, "color"_a, "aux"_a = std::map<std::string, Layer>{},
           "Writes linear colour and auxiliary layers ({'depth': (h, w), 'normal': (h, w, 3), ...}, float32) "
           "as one EXR with rtrender's channel names.");

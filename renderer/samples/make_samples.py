@@ -29,6 +29,7 @@ STAMP = ".make_samples.stamp"
 OUTPUTS = [
     "cornell.obj", "cornell.mtl", "cornell.rt.json",
     "cornell_sphere_light.obj", "cornell_sphere_light.mtl", "cornell_sphere_light.rt.json",
+    "cornell_motion.obj", "cornell_motion.mtl", "cornell_motion.rt.json",
     "smooth_sphere.glb", "dragon_1.glb", "dragon_2.glb", "dragon_3.glb", "dragon_4.glb",
     "teapot.glb", "donut.glb", "bunny.glb",
 ]

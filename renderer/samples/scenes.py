@@ -4,7 +4,8 @@ scene ({file name: bytes}) and its triangle count; make_samples.py writes them.
 They mirror the performance table of the project's origin document: a Cornell
 box with a point light and with a spherical light, a smooth-shaded low-poly
 model (968 triangles), the Stanford dragon at four resolutions, a teapot, a
-donut of 320K triangles, and the Stanford bunny.
+donut of 320K triangles, and the Stanford bunny. One more Cornell box shows
+motion blur: a moving box and a moving camera.
 """
 
 from __future__ import annotations
@@ -81,6 +82,11 @@ def cornell_sphere_light_scene() -> tuple[dict[str, bytes], int]:
     return cornell.scene_files("cornell_sphere_light", light_radius=cornell.SPHERE_LIGHT_RADIUS)
 
 
+def cornell_motion_scene() -> tuple[dict[str, bytes], int]:
+    """The Cornell box with its short box moving and a moving camera: motion blur."""
+    return cornell.scene_files("cornell_motion", light_radius=0.0, moving=True)
+
+
 def smooth_sphere_scene() -> tuple[dict[str, bytes], int]:
     """968 triangles like the origin document's monkey, with vertex normals so
     the interpolated shading shows against the faceted silhouette."""
@@ -118,6 +124,7 @@ def all_scenes(node_modules: Path) -> list[tuple[str, callable]]:
     return [
         ("cornell", cornell_scene),
         ("cornell_sphere_light", cornell_sphere_light_scene),
+        ("cornell_motion", cornell_motion_scene),
         ("smooth_sphere", smooth_sphere_scene),
         *[(f"dragon_{r}", lambda r=r: dragon_scene(node_modules, r)) for r in (1, 2, 3, 4)],
         ("teapot", lambda: teapot_scene(node_modules)),

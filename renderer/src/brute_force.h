@@ -17,9 +17,11 @@ inline Hit brute_force_hit(const Scene& scene, const Ray& ray) {
     const WatertightRay watertight(ray);
     for (size_t i = 0; i < scene.triangles.size(); ++i) {
         const uvec3 t = scene.triangles[i];
+        const auto vertex = [&](uint32_t v) {
+            return scene.moving() ? scene.position_at(v, ray.time) : scene.positions[v];
+        };
         TriangleHit th;
-        if (intersect_triangle(watertight, scene.positions[t[0]], scene.positions[t[1]], scene.positions[t[2]],
-                               std::min(hit.t, ray.t_max), th))
+        if (intersect_triangle(watertight, vertex(t[0]), vertex(t[1]), vertex(t[2]), std::min(hit.t, ray.t_max), th))
             hit = {th.t, uint32_t(i), th.u, th.v};
     }
     for (size_t s = 0; s < scene.spheres.size(); ++s) {

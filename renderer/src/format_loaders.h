@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "scene.h"
+#include "scene_extras.h"
 #include "scene_files.h"
 
 namespace rt {
@@ -26,7 +27,7 @@ inline constexpr uint32_t kNoMaterial = 0xffffffffu;
 
 // A scene as a format loader leaves it, in world space:
 // - `normals` has one entry per vertex, zero where the file gives none (the
-//   finalisation computes those);
+//   finalisation computes those), and so has `normals_close` when anything moves;
 // - `texcoords` has one entry per vertex when `has_texcoords`, else none;
 // - `triangle_materials` may hold kNoMaterial;
 // - degenerate triangles are still there.
@@ -34,20 +35,21 @@ struct LoadedScene {
     Scene scene;
     bool has_texcoords = false;
 
-    // JSON objects in the form of rt.SceneExtras found inside the file (glTF
-    // `extras.rt`), with where they were found, for loader.cpp to apply.
-    struct Extras {
-        std::string element;  // e.g. "asset.extras.rt"
-        std::string json;
-    };
-    std::vector<Extras> extras;
+    // What the file itself says in the form of rt.SceneExtras (glTF
+    // `extras.rt`), for loader.cpp to add; its motions are applied already.
+    std::vector<SceneAdditions> extras;
 };
 
+// The loaders apply `motions` (from the sidecar) to the nodes, objects or
+// groups they name, and throw SceneError for a name that matches none.
+
 // A .gltf (JSON) or .glb (`binary`) file's content.
-LoadedScene load_gltf(std::span<const unsigned char> data, bool binary, const SceneFolder& folder);
+LoadedScene load_gltf(std::span<const unsigned char> data, bool binary, const SceneFolder& folder,
+                      std::span<const SceneAdditions::Motion> motions);
 
 // An .obj file's content.
-LoadedScene load_obj(std::span<const unsigned char> data, const SceneFolder& folder);
+LoadedScene load_obj(std::span<const unsigned char> data, const SceneFolder& folder,
+                     std::span<const SceneAdditions::Motion> motions);
 
 // Whether every component of `v` converts to a finite float: converting a double
 // beyond float's range is undefined behaviour, not infinity.

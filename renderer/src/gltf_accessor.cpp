@@ -155,4 +155,11 @@ uint32_t GltfAccessor::index_at(size_t i) const {
     }
 }
 
+float GltfAccessor::float_at(size_t i) const { return load<float>(element(i)); }
+
+glm::vec4 GltfAccessor::vec4_at(size_t i) const {
+    const unsigned char* p = element(i);
+    return glm::vec4(load<float>(p), load<float>(p + 4), load<float>(p + 8), load<float>(p + 12));
+}
+
 }  // namespace rt

@@ -33,6 +33,10 @@ class GltfAccessor {
     vec2 vec2_at(size_t i) const;
     // Element i of a SCALAR UNSIGNED_BYTE/SHORT/INT accessor.
     uint32_t index_at(size_t i) const;
+    // Element i of a FLOAT SCALAR accessor.
+    float float_at(size_t i) const;
+    // Element i of a FLOAT VEC4 accessor.
+    glm::vec4 vec4_at(size_t i) const;
 
   private:
     const unsigned char* element(size_t i) const { return data_ + i * stride_; }

@@ -166,20 +166,24 @@ void check_image_views(const Json& doc, const std::string& name) {
 }
 
 void add_extras(const Json& object, const std::string& element, const std::string& name,
-                std::vector<LoadedScene::Extras>& extras) {
+                std::vector<SceneAdditions>& extras) {
     const Json* all = member(object, "extras");
     const Json* rt = all ? member(*all, "rt") : nullptr;
     if (!rt) return;
     if (!rt->is_object()) throw SceneError(name + ": " + element + " must be a JSON object");
-    extras.push_back({element, rt->dump()});
+    try {
+        extras.push_back(read_scene_extras(rt->dump(), name + ": " + element));
+    } catch (const std::invalid_argument& e) {
+        throw SceneError(e.what());
+    }
 }
 
 // Everything about the document that must hold before tinygltf parses it: its
 // depth, required extensions, the files it references (named in `names`), image
 // buffer views. Returns the `extras.rt` objects of the asset and of the scene
-// to render.
-std::vector<LoadedScene::Extras> check_document(std::string_view text, const SceneFolder& folder,
-                                                ReferenceNames& names) {
+// to render, parsed.
+std::vector<SceneAdditions> check_document(std::string_view text, const SceneFolder& folder,
+                                           ReferenceNames& names) {
     const std::string& name = folder.scene_name();
     if (json_depth(text) > kMaxJsonDepth)
         throw SceneError(name + ": JSON nesting is deeper than " + std::to_string(kMaxJsonDepth) + " levels");
@@ -205,7 +209,7 @@ std::vector<LoadedScene::Extras> check_document(std::string_view text, const Sce
     check_references(doc, "images", folder, names);
     check_image_views(doc, name);
 
-    std::vector<LoadedScene::Extras> extras;
+    std::vector<SceneAdditions> extras;
     try {
         if (const Json* asset = member(doc, "asset")) add_extras(*asset, "asset.extras.rt", name, extras);
         const Json* scenes = member(doc, "scenes");
@@ -291,12 +295,13 @@ std::string one_line(std::string text) {
 
 }  // namespace
 
-LoadedScene load_gltf(std::span<const unsigned char> data, bool binary, const SceneFolder& folder) {
+LoadedScene load_gltf(std::span<const unsigned char> data, bool binary, const SceneFolder& folder,
+                      std::span<const SceneAdditions::Motion> motions) {
     const std::string& name = folder.scene_name();
     std::string_view json(reinterpret_cast<const char*>(data.data()), data.size());
     if (binary) data = check_glb(data, name, json);
     ReferenceNames names;
-    std::vector<LoadedScene::Extras> extras = check_document(json, folder, names);
+    std::vector<SceneAdditions> extras = check_document(json, folder, names);
 
     FileAccess access{folder, names, {}, std::nullopt};
     tinygltf::TinyGLTF parser;
@@ -316,7 +321,11 @@ LoadedScene load_gltf(std::span<const unsigned char> data, bool binary, const Sc
     if (access.error) throw *access.error;
     if (!ok) throw SceneError(name + ": " + one_line(error.empty() ? "cannot be parsed" : error));
 
-    LoadedScene loaded = build_gltf_scene(model, name);
+    std::vector<SceneAdditions::Motion> all_motions;
+    for (const SceneAdditions& additions : extras)
+        all_motions.insert(all_motions.end(), additions.motions.begin(), additions.motions.end());
+    all_motions.insert(all_motions.end(), motions.begin(), motions.end());
+    LoadedScene loaded = build_gltf_scene(model, name, all_motions);
     loaded.extras = std::move(extras);
     if (!warning.empty())
         loaded.scene.warnings.insert(loaded.scene.warnings.begin(), name + ": " + one_line(warning));

@@ -19,10 +19,12 @@ namespace rt {
 inline constexpr const char* kSupportedGltfExtensions[] = {"KHR_lights_punctual", "KHR_materials_transmission",
                                                           "KHR_materials_ior"};
 
-// The scene of a parsed model. Image payloads read from URIs are still encoded,
-// in tinygltf::Image::image; images in buffer views are read from there. Throws
+// The scene of a parsed model, its nodes moved by its first animation and by
+// `motions` (gltf_poses.h). Image payloads read from URIs are still encoded, in
+// tinygltf::Image::image; images in buffer views are read from there. Throws
 // SceneError prefixed with `scene_name` for anything invalid.
-LoadedScene build_gltf_scene(const tinygltf::Model& model, const std::string& scene_name);
+LoadedScene build_gltf_scene(const tinygltf::Model& model, const std::string& scene_name,
+                             std::span<const SceneAdditions::Motion> motions);
 
 // glTF materials as Phong materials (docs/materials.md), each converted when a
 // primitive first uses it, with its base colour texture decoded then.

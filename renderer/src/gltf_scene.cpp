@@ -1,18 +1,18 @@
 // The parsed glTF model's node forest and meshes, turned into our world-space
-// scene. Nothing in the model is trusted: indices are range-checked, accessors
-// go through GltfAccessor, numbers must be finite, and nodes must form trees.
+// scene, at shutter open and, when nodes move (gltf_poses.h), at shutter close.
+// Nothing in the model is trusted: indices are range-checked, accessors go
+// through GltfAccessor, numbers must be finite, and nodes must form trees.
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
 #include <stdexcept>
 
-#include <glm/gtc/matrix_transform.hpp>
-#include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 #include "gltf_accessor.h"
 #include "gltf_loader.h"
+#include "gltf_poses.h"
 #include "loader.h"
 #include "proto_limits.h"
 
@@ -24,12 +24,6 @@ using glm::dvec4;
 
 std::string at(const char* array, size_t index) {
     return std::string(array) + "[" + std::to_string(index) + "]";
-}
-
-bool all_finite(const std::vector<double>& values) {
-    for (double v : values)
-        if (!std::isfinite(v)) return false;
-    return true;
 }
 
 bool all_finite(const dmat4& m) {
@@ -51,8 +45,12 @@ std::string mode_name(int mode) {
 
 class GltfSceneBuilder {
   public:
-    GltfSceneBuilder(const tinygltf::Model& model, const std::string& name)
-        : model_(model), name_(name), materials_(model, name, loaded_.scene) {}
+    GltfSceneBuilder(const tinygltf::Model& model, const std::string& name,
+                     std::span<const SceneAdditions::Motion> motions)
+        : model_(model),
+          name_(name),
+          materials_(model, name, loaded_.scene),
+          poses_(model, name, motions, loaded_.scene.warnings) {}
 
     LoadedScene build();
 
@@ -65,16 +63,21 @@ class GltfSceneBuilder {
         int parent;            // -1 for a root
         std::string referrer;  // where the reference is, for messages
     };
+    // A node's transform to world space at shutter open and close.
+    struct World {
+        dmat4 open{1.0};
+        dmat4 close{1.0};
+    };
     std::vector<Reference> root_nodes() const;
-    dmat4 local_transform(const tinygltf::Node& node, const std::string& what) const;
-    void add_primitive(const tinygltf::Primitive& primitive, const std::string& what, const dmat4& world);
-    void add_camera(const tinygltf::Node& node, const std::string& what, const dmat4& world);
+    void add_primitive(const tinygltf::Primitive& primitive, const std::string& what, const World& world);
+    void add_camera(const tinygltf::Node& node, const std::string& what, const World& world);
     void add_light(const tinygltf::Node& node, const std::string& what, const dmat4& world);
 
     const tinygltf::Model& model_;
     const std::string& name_;
     LoadedScene loaded_;
     GltfMaterials materials_;
+    GltfPoses poses_;
 };
 
 std::vector<GltfSceneBuilder::Reference> GltfSceneBuilder::root_nodes() const {
@@ -95,40 +98,13 @@ std::vector<GltfSceneBuilder::Reference> GltfSceneBuilder::root_nodes() const {
     return roots;
 }
 
-dmat4 GltfSceneBuilder::local_transform(const tinygltf::Node& node, const std::string& what) const {
-    const auto check = [&](const std::vector<double>& values, size_t size, const char* field) {
-        if (!values.empty() && values.size() != size)
-            fail(what + "." + field + " has " + std::to_string(values.size()) + " values, expected " +
-                 std::to_string(size));
-        if (!all_finite(values)) fail(what + "." + field + " is not finite");
-    };
-    if (!node.matrix.empty()) {
-        check(node.matrix, 16, "matrix");
-        return glm::make_mat4(node.matrix.data());  // column-major, as glTF
-    }
-    check(node.translation, 3, "translation");
-    check(node.rotation, 4, "rotation");
-    check(node.scale, 3, "scale");
-    dmat4 m(1.0);
-    if (!node.translation.empty()) m = glm::translate(m, glm::make_vec3(node.translation.data()));
-    if (!node.rotation.empty()) {
-        const auto& r = node.rotation;
-        const glm::dquat q(r[3], r[0], r[1], r[2]);  // glTF stores x, y, z, w
-        const double length = glm::length(q);
-        if (!(length > 0.0) || !std::isfinite(length)) fail(what + ".rotation is not a rotation");
-        m *= glm::mat4_cast(q / length);
-    }
-    if (!node.scale.empty()) m = glm::scale(m, glm::make_vec3(node.scale.data()));
-    return m;
-}
-
 LoadedScene GltfSceneBuilder::build() {
     // Depth first with an explicit stack: a hostile file may nest nodes deeper
     // than the call stack allows.
     std::vector<Reference> stack = root_nodes();
     std::reverse(stack.begin(), stack.end());
     std::vector<char> visited(model_.nodes.size(), 0);
-    std::vector<dmat4> world(model_.nodes.size());
+    std::vector<World> world(model_.nodes.size());
     while (!stack.empty()) {
         const Reference reference = std::move(stack.back());
         stack.pop_back();
@@ -142,9 +118,11 @@ LoadedScene GltfSceneBuilder::build() {
         visited[index] = 1;
 
         const tinygltf::Node& node = model_.nodes[index];
-        const dmat4 parent = reference.parent < 0 ? dmat4(1.0) : world[size_t(reference.parent)];
-        world[index] = parent * local_transform(node, what);
-        if (!all_finite(world[index])) fail(what + ": its world transform is not finite");
+        const World parent = reference.parent < 0 ? World{} : world[size_t(reference.parent)];
+        const GltfPoses::Local local = poses_.local(index, what);
+        world[index] = {parent.open * local.open, parent.close * local.close};
+        if (!all_finite(world[index].open) || !all_finite(world[index].close))
+            fail(what + ": its world transform is not finite");
 
         if (node.mesh != -1) {
             if (node.mesh < 0 || size_t(node.mesh) >= model_.meshes.size())
@@ -155,7 +133,8 @@ LoadedScene GltfSceneBuilder::build() {
                               world[index]);
         }
         if (node.camera != -1) add_camera(node, what, world[index]);
-        add_light(node, what, world[index]);
+        // Lights stand still: where they are when the shutter opens.
+        add_light(node, what, world[index].open);
         for (auto child = node.children.rbegin(); child != node.children.rend(); ++child)
             stack.push_back({*child, int(index), what + ".children"});
     }
@@ -163,7 +142,7 @@ LoadedScene GltfSceneBuilder::build() {
 }
 
 void GltfSceneBuilder::add_primitive(const tinygltf::Primitive& primitive, const std::string& what,
-                                     const dmat4& world) {
+                                     const World& world) {
     const int mode = primitive.mode;
     if (mode >= TINYGLTF_MODE_POINTS && mode <= TINYGLTF_MODE_LINE_STRIP) {
         warn(what + " has mode " + mode_name(mode) + ": only triangles are rendered, skipped");
@@ -220,13 +199,17 @@ void GltfSceneBuilder::add_primitive(const tinygltf::Primitive& primitive, const
                  ") is out of range: POSITION has " + std::to_string(n) + " elements");
     }
 
-    // Normals transform by the cofactor matrix (the inverse transpose times the
-    // determinant), defined even for a singular transform. A mirroring transform
-    // reverses the winding; we reverse it back so it keeps matching the normals.
-    const dmat3 m(world);
-    const double det = glm::determinant(m);
-    const dmat3 normal_matrix =
-        dmat3(glm::cross(m[1], m[2]), glm::cross(m[2], m[0]), glm::cross(m[0], m[1])) * (det < 0.0 ? -1.0 : 1.0);
+    // A mirroring transform reverses the winding; we reverse it back so it keeps
+    // matching the normals. (One that starts mirroring during the shutter
+    // interval leaves it to face_viewer, where the normals win.)
+    const double det = glm::determinant(dmat3(world.open));
+    const bool moving = poses_.moving();
+    const dmat3 normals_open = normal_matrix(dmat3(world.open)), normals_close = normal_matrix(dmat3(world.close));
+    const auto transform_normal = [](const dmat3& matrix, vec3 normal) {
+        const dvec3 transformed = matrix * dvec3(normal);
+        const double length = glm::length(transformed);
+        return length > 0.0 && std::isfinite(length) ? vec3(transformed / length) : vec3(0.0f);
+    };
     if (texcoords && !loaded_.has_texcoords) {
         scene.texcoords.assign(scene.positions.size(), vec2(0.0f));
         loaded_.has_texcoords = true;
@@ -236,18 +219,19 @@ void GltfSceneBuilder::add_primitive(const tinygltf::Primitive& primitive, const
         const std::string element = " element " + std::to_string(i);
         const vec3 p = positions.vec3_at(i);
         if (!is_finite(p)) throw SceneError(positions.what() + element + " is not finite");
-        const dvec3 wp(world * dvec4(p, 1.0));
-        if (!fits_float(wp)) throw SceneError(positions.what() + element + " is not finite after the node transform");
+        const dvec3 wp(world.open * dvec4(p, 1.0));
+        const dvec3 wp_close = moving ? dvec3(world.close * dvec4(p, 1.0)) : wp;
+        if (!fits_float(wp) || !fits_float(wp_close))
+            throw SceneError(positions.what() + element + " is not finite after the node transform");
         scene.positions.push_back(vec3(wp));
+        if (moving) scene.positions_close.push_back(vec3(wp_close));
         vec3 normal(0.0f);  // finalisation computes the missing ones
         if (normals) {
             normal = normals->vec3_at(i);
             if (!is_finite(normal)) throw SceneError(normals->what() + element + " is not finite");
-            const dvec3 transformed = normal_matrix * dvec3(normal);
-            const double length = glm::length(transformed);
-            normal = length > 0.0 && std::isfinite(length) ? vec3(transformed / length) : vec3(0.0f);
         }
-        scene.normals.push_back(normal);
+        scene.normals.push_back(transform_normal(normals_open, normal));
+        if (moving) scene.normals_close.push_back(transform_normal(normals_close, normal));
         if (loaded_.has_texcoords) {
             const vec2 uv = texcoords ? texcoords->vec2_at(i) : vec2(0.0f);
             if (!std::isfinite(uv.x) || !std::isfinite(uv.y))
@@ -273,7 +257,7 @@ void GltfSceneBuilder::add_primitive(const tinygltf::Primitive& primitive, const
     }
 }
 
-void GltfSceneBuilder::add_camera(const tinygltf::Node& node, const std::string& what, const dmat4& world) {
+void GltfSceneBuilder::add_camera(const tinygltf::Node& node, const std::string& what, const World& world) {
     if (node.camera < 0 || size_t(node.camera) >= model_.cameras.size())
         fail(what + ".camera refers to camera " + std::to_string(node.camera) + ", which does not exist");
     const tinygltf::Camera& source = model_.cameras[size_t(node.camera)];
@@ -283,18 +267,22 @@ void GltfSceneBuilder::add_camera(const tinygltf::Node& node, const std::string&
         return;
     }
     // A glTF camera looks down its node's -Z with +Y up.
-    const dmat3 m(world);
-    const dvec3 position(world[3]);
-    const dvec3 forward = glm::normalize(m * dvec3(0.0, 0.0, -1.0));
-    const dvec3 up = glm::normalize(m * dvec3(0.0, 1.0, 0.0));
-    if (!fits_float(forward) || !fits_float(up) || !fits_float(position) || !fits_float(position + forward))
-        fail(what + ": its transform collapses the view of " + name + " or puts it out of range");
+    const auto set_pose = [&](const dmat4& transform, auto& pose) {
+        const dmat3 m(transform);
+        const dvec3 position(transform[3]);
+        const dvec3 forward = glm::normalize(m * dvec3(0.0, 0.0, -1.0));
+        const dvec3 up = glm::normalize(m * dvec3(0.0, 1.0, 0.0));
+        if (!fits_float(forward) || !fits_float(up) || !fits_float(position) || !fits_float(position + forward))
+            fail(what + ": its transform collapses the view of " + name + " or puts it out of range");
+        for (int k = 0; k < 3; ++k) {
+            pose.add_position(float(position[k]));
+            pose.add_target(float(position[k] + forward[k]));
+            pose.add_up(float(up[k]));
+        }
+    };
     Camera camera;
-    for (int k = 0; k < 3; ++k) {
-        camera.add_position(float(position[k]));
-        camera.add_target(float(position[k] + forward[k]));
-        camera.add_up(float(up[k]));
-    }
+    set_pose(world.open, camera);
+    if (world.close != world.open) set_pose(world.close, *camera.mutable_shutter_close());
     // Out of float's range, the field of view becomes infinite for the limits to refuse.
     const double fov_y = glm::degrees(source.perspective.yfov);
     camera.set_fov_y(std::abs(fov_y) < 1e30 ? float(fov_y) : std::numeric_limits<float>::infinity());
@@ -341,8 +329,9 @@ void GltfSceneBuilder::add_light(const tinygltf::Node& node, const std::string& 
 
 }  // namespace
 
-LoadedScene build_gltf_scene(const tinygltf::Model& model, const std::string& scene_name) {
-    return GltfSceneBuilder(model, scene_name).build();
+LoadedScene build_gltf_scene(const tinygltf::Model& model, const std::string& scene_name,
+                             std::span<const SceneAdditions::Motion> motions) {
+    return GltfSceneBuilder(model, scene_name, motions).build();
 }
 
 }  // namespace rt

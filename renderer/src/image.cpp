@@ -1,7 +1,6 @@
 #include "image.h"
 
 #include <algorithm>
-#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -9,12 +8,8 @@
 
 namespace rt {
 
-float linear_to_srgb(float linear) {
-    const float v = std::clamp(std::isnan(linear) ? 0.0f : linear, 0.0f, 1.0f);
-    return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-}
-
-void write_image(const std::filesystem::path& file, const Image& image, const AuxImage* aux) {
+void write_image(const std::filesystem::path& file, const Image& image, const AuxImage* aux,
+                 const DisplayTransform& display) {
     std::string extension = file.extension().string();
     std::transform(extension.begin(), extension.end(), extension.begin(), ::tolower);
     const bool png = extension == ".png";
@@ -41,8 +36,7 @@ void write_image(const std::filesystem::path& file, const Image& image, const Au
     bool written;
     if (png) {
         std::vector<uint8_t> bytes(image.rgb.size());
-        std::transform(image.rgb.begin(), image.rgb.end(), bytes.begin(),
-                       srgb8);
+        encode_srgb8(image.rgb, display, bytes);
         written = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
     } else if (layers.empty()) {
         written = out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data());

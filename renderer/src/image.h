@@ -1,14 +1,14 @@
-// A linear-RGB float image and how it is written: PNG as sRGB 8-bit, EXR as
-// linear float with any auxiliary outputs as further channels, both through
-// OpenImageIO.
+// A linear-RGB float image and how it is written: PNG as 8-bit sRGB after the
+// display transform, EXR as linear float with any auxiliary outputs as further
+// channels, both through OpenImageIO.
 #pragma once
 
-#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <vector>
 
 #include "aov.h"
+#include "display.h"
 #include "math.h"
 
 namespace rt {
@@ -26,17 +26,13 @@ struct Image {
     }
 };
 
-// The sRGB transfer function (IEC 61966-2-1) of a linear value clamped to [0, 1].
-float linear_to_srgb(float linear);
-
-// A linear value as the 8-bit sRGB code a PNG stores: every 8-bit output (the
-// CLI's PNG, the service's tiles and image.png) rounds through this one function.
-inline uint8_t srgb8(float linear) { return uint8_t(std::lround(linear_to_srgb(linear) * 255.0f)); }
-
-// Format by extension (.png or .exr). An EXR holds R, G, B and then the
-// channels of each layer `aux` holds (aux_channel_names: "depth.Z", ...), BVH
-// costs as floats. Throws std::invalid_argument for auxiliary layers in a PNG,
-// which holds colour only, and std::runtime_error naming the file when writing fails.
-void write_image(const std::filesystem::path& file, const Image& image, const AuxImage* aux = nullptr);
+// Format by extension (.png or .exr). A PNG holds the colour through
+// `display` (exposure, tone map, sRGB 8-bit). An EXR holds the linear R, G, B
+// and then the channels of each layer `aux` holds (aux_channel_names:
+// "depth.Z", ...), BVH costs as floats. Throws std::invalid_argument for
+// auxiliary layers in a PNG, which holds colour only, and std::runtime_error
+// naming the file when writing fails.
+void write_image(const std::filesystem::path& file, const Image& image, const AuxImage* aux = nullptr,
+                 const DisplayTransform& display = {});
 
 }  // namespace rt

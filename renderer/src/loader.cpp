@@ -30,17 +30,22 @@ Format format_of(const std::string& file_name) {
                      " (expected .gltf, .glb or .obj)");
 }
 
-LoadedScene load_format(Format format, std::span<const unsigned char> data, const SceneFolder& folder) {
-    return format == Format::Obj ? load_obj(data, folder) : load_gltf(data, format == Format::Glb, folder);
+LoadedScene load_format(Format format, std::span<const unsigned char> data, const SceneFolder& folder,
+                        std::span<const SceneAdditions::Motion> motions) {
+    return format == Format::Obj ? load_obj(data, folder, motions)
+                                 : load_gltf(data, format == Format::Glb, folder, motions);
 }
 
-void add_extras(std::string_view json, const std::string& source, Scene& scene) {
-    SceneAdditions additions;
+SceneAdditions read_sidecar(std::string_view json, const std::string& source) {
     try {
-        additions = read_scene_extras(json, source);
+        return read_scene_extras(json, source);
     } catch (const std::invalid_argument& e) {
         throw SceneError(e.what());
     }
+}
+
+// Everything but the motions, which the format loaders apply.
+void add_extras(SceneAdditions& additions, Scene& scene) {
     for (auto& sphere : additions.spheres) {
         scene.spheres.push_back({sphere.center, sphere.radius, uint32_t(scene.materials.size())});
         scene.materials.push_back(std::move(sphere.material));
@@ -51,14 +56,18 @@ void add_extras(std::string_view json, const std::string& source, Scene& scene) 
     for (auto& camera : additions.cameras) scene.cameras.push_back({std::move(camera.name), std::move(camera.camera)});
 }
 
-// Triangles no ray can hit (zero area, or an area that is not finite) would only
-// cost traversal time and poison normals; they go, counted.
+// Triangles no ray can hit (zero area, or an area that is not finite, at both
+// ends of the shutter interval) would only cost traversal time and poison
+// normals; they go, counted.
 void drop_degenerate_triangles(Scene& scene, const std::string& name) {
+    const auto hittable = [](const std::vector<vec3>& positions, uvec3 tri) {
+        const float area = doubled_area(positions[tri.x], positions[tri.y], positions[tri.z]);
+        return area > 0.0f && std::isfinite(area);
+    };
     size_t kept = 0;
     for (size_t t = 0; t < scene.triangles.size(); ++t) {
         const uvec3 tri = scene.triangles[t];
-        const float area = doubled_area(scene.positions[tri.x], scene.positions[tri.y], scene.positions[tri.z]);
-        if (!(area > 0.0f) || !std::isfinite(area)) continue;
+        if (!hittable(scene.positions, tri) && !(scene.moving() && hittable(scene.positions_close, tri))) continue;
         scene.triangles[kept] = tri;
         scene.triangle_materials[kept] = scene.triangle_materials[t];
         ++kept;
@@ -75,7 +84,7 @@ void drop_degenerate_triangles(Scene& scene, const std::string& name) {
 // the geometry that is there.
 void drop_unused_vertices(Scene& scene, bool has_texcoords) {
     std::vector<uint32_t> remap(scene.positions.size(), UINT32_MAX);
-    std::vector<vec3> positions, normals;
+    std::vector<vec3> positions, normals, positions_close, normals_close;
     std::vector<vec2> texcoords;
     for (uvec3& tri : scene.triangles) {
         for (int k = 0; k < 3; ++k) {
@@ -85,6 +94,10 @@ void drop_unused_vertices(Scene& scene, bool has_texcoords) {
                 positions.push_back(scene.positions[tri[k]]);
                 normals.push_back(scene.normals[tri[k]]);
                 if (has_texcoords) texcoords.push_back(scene.texcoords[tri[k]]);
+                if (scene.moving()) {
+                    positions_close.push_back(scene.positions_close[tri[k]]);
+                    normals_close.push_back(scene.normals_close[tri[k]]);
+                }
             }
             tri[k] = index;
         }
@@ -92,32 +105,35 @@ void drop_unused_vertices(Scene& scene, bool has_texcoords) {
     scene.positions = std::move(positions);
     scene.normals = std::move(normals);
     scene.texcoords = std::move(texcoords);
+    scene.positions_close = std::move(positions_close);
+    scene.normals_close = std::move(normals_close);
 }
 
 // A normal the file did not give (zero) becomes the area-weighted average of
 // the faces around the vertex; where those cancel out, the first face's normal.
-void complete_normals(Scene& scene) {
+void complete_normals(const std::vector<uvec3>& triangles, const std::vector<vec3>& positions,
+                      std::vector<vec3>& normals) {
     const auto usable = [](vec3 n) {
         const float length = glm::length(n);
         return length > 0.0f && std::isfinite(length);
     };
-    if (std::all_of(scene.normals.begin(), scene.normals.end(), usable)) {
-        for (vec3& n : scene.normals) n = glm::normalize(n);
+    if (std::all_of(normals.begin(), normals.end(), usable)) {
+        for (vec3& n : normals) n = glm::normalize(n);
         return;
     }
-    std::vector<dvec3> sums(scene.normals.size(), dvec3(0.0));
-    std::vector<dvec3> first(scene.normals.size(), dvec3(0.0));
-    for (const uvec3& tri : scene.triangles) {
-        const dvec3 p0(scene.positions[tri.x]);
-        const dvec3 area = glm::cross(dvec3(scene.positions[tri.y]) - p0, dvec3(scene.positions[tri.z]) - p0);
+    std::vector<dvec3> sums(normals.size(), dvec3(0.0));
+    std::vector<dvec3> first(normals.size(), dvec3(0.0));
+    for (const uvec3& tri : triangles) {
+        const dvec3 p0(positions[tri.x]);
+        const dvec3 area = glm::cross(dvec3(positions[tri.y]) - p0, dvec3(positions[tri.z]) - p0);
         for (int k = 0; k < 3; ++k) {
-            if (usable(scene.normals[tri[k]])) continue;
+            if (usable(normals[tri[k]])) continue;
             sums[tri[k]] += area;
             if (first[tri[k]] == dvec3(0.0)) first[tri[k]] = glm::normalize(area);
         }
     }
-    for (size_t v = 0; v < scene.normals.size(); ++v) {
-        vec3& n = scene.normals[v];
+    for (size_t v = 0; v < normals.size(); ++v) {
+        vec3& n = normals[v];
         if (usable(n)) {
             n = glm::normalize(n);
             continue;
@@ -133,7 +149,16 @@ void finalise(LoadedScene& loaded, const std::string& name) {
     Scene& scene = loaded.scene;
     drop_degenerate_triangles(scene, name);
     drop_unused_vertices(scene, loaded.has_texcoords);
-    complete_normals(scene);
+    complete_normals(scene.triangles, scene.positions, scene.normals);
+    if (scene.moving()) {
+        complete_normals(scene.triangles, scene.positions_close, scene.normals_close);
+        // Motions that end where they start (a full turn, an animation that
+        // loops) leave the scene still, and the renderer on its static path.
+        if (scene.positions_close == scene.positions && scene.normals_close == scene.normals) {
+            scene.positions_close.clear();
+            scene.normals_close.clear();
+        }
+    }
 
     const auto unassigned = std::find(scene.triangle_materials.begin(), scene.triangle_materials.end(), kNoMaterial);
     if (unassigned != scene.triangle_materials.end()) {
@@ -151,14 +176,16 @@ void finalise(LoadedScene& loaded, const std::string& name) {
 
 Scene load(Format format, std::span<const unsigned char> data, const SceneFolder& folder,
            const std::optional<std::vector<unsigned char>>& sidecar, const std::string& sidecar_name) {
-    LoadedScene loaded = load_format(format, data, folder);
-    const std::string& name = folder.scene_name();
-    for (const LoadedScene::Extras& extras : loaded.extras)
-        add_extras(extras.json, name + ": " + extras.element, loaded.scene);
+    // Read first: its motions move the file's nodes as they are loaded.
+    SceneAdditions sidecar_additions;  // none without a sidecar
     if (sidecar)
-        add_extras(std::string_view(reinterpret_cast<const char*>(sidecar->data()), sidecar->size()),
-                   sidecar_name + ": extras", loaded.scene);
-    finalise(loaded, name);
+        sidecar_additions = read_sidecar(
+            std::string_view(reinterpret_cast<const char*>(sidecar->data()), sidecar->size()),
+            sidecar_name + ": extras");
+    LoadedScene loaded = load_format(format, data, folder, sidecar_additions.motions);
+    for (SceneAdditions& additions : loaded.extras) add_extras(additions, loaded.scene);
+    add_extras(sidecar_additions, loaded.scene);
+    finalise(loaded, folder.scene_name());
     return std::move(loaded.scene);
 }
 

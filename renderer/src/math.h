@@ -26,6 +26,9 @@ constexpr float gamma_bound(int n) {
     return (n * u) / (1 - n * u);
 }
 
+// Rec. 709 luminance of linear RGB.
+inline float luminance(vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
 inline float max_component(vec3 v) { return glm::max(v.x, glm::max(v.y, v.z)); }
 inline int max_dimension(vec3 v) { return v.x > v.y ? (v.x > v.z ? 0 : 2) : (v.y > v.z ? 1 : 2); }
 

@@ -1,6 +1,8 @@
 // Wavefront OBJ + MTL through tinyobjloader. The parser only splits the text;
 // every index, count and number it hands back is checked here, and material
 // libraries and textures are read through the scene folder (scene_files.h).
+// An rt.NodeMotion moves the faces of every object or group of its name (the
+// `o` or `g` line they follow last) in world space.
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -13,6 +15,7 @@
 
 #include "format_loaders.h"
 #include "loader.h"
+#include "node_transform.h"
 #include "texture_decode.h"
 #include "third_party.h"
 
@@ -72,9 +75,13 @@ class ObjSceneBuilder {
         : folder_(folder), name_(folder.scene_name()), attrib_(attrib) {}
 
     LoadedScene build(const std::vector<tinyobj::shape_t>& shapes,
-                      const std::vector<tinyobj::material_t>& materials);
+                      const std::vector<tinyobj::material_t>& materials,
+                      std::span<const SceneAdditions::Motion> motions);
 
   private:
+    // For each shape, the index of the motion that names it, or -1.
+    std::vector<int> match_motions(const std::vector<tinyobj::shape_t>& shapes,
+                                   std::span<const SceneAdditions::Motion> motions) const;
     [[noreturn]] void fail(const std::string& problem) const { throw SceneError(name_ + ": " + problem); }
     void check_range(const std::vector<double>& values, size_t width, const char* kind) const;
     Material convert(const tinyobj::material_t& source);
@@ -148,20 +155,46 @@ int ObjSceneBuilder::texture(const std::string& file, bool clamp, const std::str
     return mapped;
 }
 
+// A corner's vertex; corners that share one must also share their motion.
 struct CornerKey {
-    int v, vn, vt;
+    int v, vn, vt, motion;
     bool operator==(const CornerKey&) const = default;
 };
 
 struct CornerHash {
     size_t operator()(const CornerKey& k) const {
         return std::hash<uint64_t>()(uint64_t(uint32_t(k.v)) << 32 ^ uint64_t(uint32_t(k.vn)) << 16 ^
-                                     uint64_t(uint32_t(k.vt)));
+                                     uint64_t(uint32_t(k.vt)) ^ uint64_t(uint32_t(k.motion)) << 48);
     }
 };
 
+std::string_view trimmed(std::string_view text) {
+    const size_t start = text.find_first_not_of(" \t\r");
+    if (start == std::string_view::npos) return {};
+    return text.substr(start, text.find_last_not_of(" \t\r") - start + 1);
+}
+
+std::vector<int> ObjSceneBuilder::match_motions(const std::vector<tinyobj::shape_t>& shapes,
+                                                std::span<const SceneAdditions::Motion> motions) const {
+    std::unordered_map<std::string_view, std::vector<size_t>> shapes_by_name;
+    for (size_t s = 0; s < shapes.size(); ++s) shapes_by_name[trimmed(shapes[s].name)].push_back(s);
+    std::vector<int> moved_by(shapes.size(), -1);
+    for (size_t m = 0; m < motions.size(); ++m) {
+        const std::string what = "object or group " + in_quotes(motions[m].node);
+        const auto named = shapes_by_name.find(motions[m].node);
+        if (named == shapes_by_name.end())
+            throw SceneError(motions[m].source + ": the scene " + name_ + " has no " + what);
+        for (size_t s : named->second) {
+            if (moved_by[s] >= 0) throw SceneError(motions[m].source + ": " + what + " has a motion already");
+            moved_by[s] = int(m);
+        }
+    }
+    return moved_by;
+}
+
 LoadedScene ObjSceneBuilder::build(const std::vector<tinyobj::shape_t>& shapes,
-                                   const std::vector<tinyobj::material_t>& materials) {
+                                   const std::vector<tinyobj::material_t>& materials,
+                                   std::span<const SceneAdditions::Motion> motions) {
     const size_t nv = attrib_.vertices.size() / 3, nn = attrib_.normals.size() / 3, nt = attrib_.texcoords.size() / 2;
     check_range(attrib_.vertices, 3, "v");
     check_range(attrib_.normals, 3, "vn");
@@ -216,20 +249,47 @@ LoadedScene ObjSceneBuilder::build(const std::vector<tinyobj::shape_t>& shapes,
     }
     check_geometry_limits(scene, 0, triangle_count, name_);
 
+    // Where the motions put each object at shutter close; identity for parts they leave out.
+    const std::vector<int> moved_by = match_motions(shapes, motions);
+    std::vector<dmat4> close;
+    std::vector<glm::dmat3> close_normals;
+    for (const SceneAdditions::Motion& motion : motions) {
+        close.push_back(motion.close.over({}).matrix());
+        close_normals.push_back(normal_matrix(glm::dmat3(close.back())));
+    }
+    // Once anything moves, every vertex has a place at shutter close: its own
+    // when it stands still.
+    const auto add_close = [&](int v, vec3 normal, int motion) {
+        dvec3 p = position(v);
+        if (motion >= 0) {
+            const size_t m = size_t(motion);
+            p = dvec3(close[m] * glm::dvec4(p, 1.0));
+            if (!fits_float(p))
+                throw SceneError(motions[m].source + ": moves v #" + std::to_string(v + 1) + " out of range");
+            const dvec3 n = close_normals[m] * dvec3(normal);
+            const double length = glm::length(n);
+            normal = length > 0.0 && std::isfinite(length) ? vec3(n / length) : vec3(0.0f);
+        }
+        scene.positions_close.push_back(vec3(p));
+        scene.normals_close.push_back(normal);
+    };
+
     // Pass 2: one vertex per distinct (position, normal, texcoord) triple, and
     // each polygon as a fan of triangles.
     loaded_.has_texcoords = nt > 0;
     std::unordered_map<CornerKey, uint32_t, CornerHash> vertices;
     std::vector<uint32_t> polygon;
-    for (const tinyobj::shape_t& shape : shapes) {
+    for (size_t shape_index = 0; shape_index < shapes.size(); ++shape_index) {
+        const tinyobj::shape_t& shape = shapes[shape_index];
         const tinyobj::mesh_t& mesh = shape.mesh;
+        const int motion = moved_by[shape_index];
         size_t offset = 0;
         for (size_t f = 0; f < mesh.num_face_vertices.size(); ++f) {
             const size_t count = mesh.num_face_vertices[f];
             polygon.clear();
             for (size_t k = 0; k < count; ++k) {
                 const tinyobj::index_t& i = mesh.indices[offset + k];
-                const CornerKey key{i.vertex_index, i.normal_index, i.texcoord_index};
+                const CornerKey key{i.vertex_index, i.normal_index, i.texcoord_index, motion};
                 const auto [it, added] = vertices.try_emplace(key, uint32_t(scene.positions.size()));
                 if (added) {
                     check_geometry_limits(scene, 1, 0, name_);
@@ -238,7 +298,9 @@ LoadedScene ObjSceneBuilder::build(const std::vector<tinyobj::shape_t>& shapes,
                     const dvec3 n = key.vn >= 0 ? glm::make_vec3(&attrib_.normals[3 * size_t(key.vn)])
                                                 : smooth[size_t(key.v)];
                     const double length = glm::length(n);
-                    scene.normals.push_back(length > 0.0 && std::isfinite(length) ? vec3(n / length) : vec3(0.0f));
+                    const vec3 normal = length > 0.0 && std::isfinite(length) ? vec3(n / length) : vec3(0.0f);
+                    scene.normals.push_back(normal);
+                    if (!motions.empty()) add_close(key.v, normal, motion);
                     // OBJ puts v = 0 at the bottom of an image, our textures at the top.
                     if (loaded_.has_texcoords) {
                         const double* uv = key.vt >= 0 ? &attrib_.texcoords[2 * size_t(key.vt)] : nullptr;
@@ -306,7 +368,8 @@ void check_vertex_numbers(std::string_view text, const std::string& name) {
 
 }  // namespace
 
-LoadedScene load_obj(std::span<const unsigned char> data, const SceneFolder& folder) {
+LoadedScene load_obj(std::span<const unsigned char> data, const SceneFolder& folder,
+                     std::span<const SceneAdditions::Motion> motions) {
     const std::string& name = folder.scene_name();
     const std::string text = without_skin_weights(data);
     check_vertex_numbers(text, name);
@@ -328,7 +391,7 @@ LoadedScene load_obj(std::span<const unsigned char> data, const SceneFolder& fol
     if (reader.error) throw *reader.error;
     if (!ok) throw SceneError(name + ": " + error);
 
-    LoadedScene loaded = ObjSceneBuilder(folder, attrib).build(shapes, materials);
+    LoadedScene loaded = ObjSceneBuilder(folder, attrib).build(shapes, materials, motions);
     std::vector<std::string> parser_warnings;
     add_warnings(warning + error, name, parser_warnings);
     loaded.scene.warnings.insert(loaded.scene.warnings.begin(), parser_warnings.begin(), parser_warnings.end());

@@ -10,6 +10,10 @@ struct Ray {
     vec3 origin{0.0f};
     vec3 direction{0.0f, 0.0f, 1.0f};
     float t_max = kInfinity;
+    // When in the shutter interval the ray is traced, 0 (open) to 1 (close):
+    // the moment the scene's moving vertices are taken at. Secondary rays keep
+    // their camera ray's.
+    float time = 0.0f;
 
     vec3 at(float t) const { return origin + t * direction; }
 };

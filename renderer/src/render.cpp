@@ -36,25 +36,46 @@ Renderer::Renderer(const Accelerator& accel, RenderSettings settings, Camera cam
       pinhole_(camera_, settings_.width(), settings_.height()),
       film_(settings_),
       stopping_(settings_.adaptive_threshold(), settings_.samples_per_pixel()),
-      integrator_(accel, settings_) {}
+      integrator_(accel, settings_) {
+    if (!pinhole_.moving() && !accel.scene().moving()) return;
+    sample_times_ = settings_.motion_blur() == TIME_SAMPLED;
+    if (settings_.motion_blur() == FRAMES) motion_frames_ = settings_.motion_frames();
+}
 
 uint32_t Renderer::pixel_key(uint32_t x, uint32_t y) { return hash_combine(mix_bits(x), y); }
 
 template <class Trace>
 vec3 Renderer::estimate_pixel(uint32_t x, uint32_t y, uint64_t& samples, Trace&& trace) const {
+    if (motion_frames_ == 0) {
+        // Time-sampled, or nothing moves and any one time gives the image.
+        return estimate_frame(x, y, sample_times_ ? std::nullopt : std::optional(0.5f), samples, trace);
+    }
+    dvec3 sum(0.0);
+    for (uint32_t f = 0; f < motion_frames_; ++f)
+        sum += dvec3(estimate_frame(x, y, (float(f) + 0.5f) / float(motion_frames_), samples, trace));
+    return vec3(sum / double(motion_frames_));
+}
+
+template <class Trace>
+vec3 Renderer::estimate_frame(uint32_t x, uint32_t y, std::optional<float> time, uint64_t& samples,
+                              Trace&& trace) const {
     const uint32_t key = pixel_key(x, y);
     const uint32_t count = settings_.samples_per_pixel();
     if (count == 1) {
-        // A lone sample goes through the centre, whatever the filter: the image
-        // of before samples_per_pixel existed, with nothing to place or average.
+        // A lone sample goes through the centre, whatever the filter, at the
+        // middle of the shutter interval: the image of before samples_per_pixel
+        // existed, with nothing to place or average.
         ++samples;
-        return trace(pinhole_.generate_ray(float(x) + 0.5f, float(y) + 0.5f), PixelSampler(key, 0));
+        return trace(pinhole_.generate_ray(float(x) + 0.5f, float(y) + 0.5f, time.value_or(0.5f)),
+                     PixelSampler(key, 0));
     }
     PixelEstimate estimate;
     for (uint32_t i = 0; i < count; ++i) {
         const PixelSampler sampler(key, i);
         const vec2 offset = film_.offset(sampler);
-        estimate.add(trace(pinhole_.generate_ray(float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y), sampler));
+        const Ray ray = pinhole_.generate_ray(float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y,
+                                              time ? *time : sampler.time());
+        estimate.add(trace(ray, sampler));
         if (stopping_.done(estimate)) break;
     }
     samples += estimate.count();
@@ -80,33 +101,42 @@ RenderStats Renderer::render_pixels(const TileRect& tile, uint32_t scale, float*
                                     size_t row_pixels) const {
     RenderStats stats;
     const uint32_t rows = preview_extent(tile.height, scale), columns = preview_extent(tile.width, scale);
-    for (uint32_t j = 0; j < rows; ++j) {
-        for (uint32_t i = 0; i < columns; ++i) {
-            const uint32_t x = tile.x + i * scale, y = tile.y + j * scale;
-            const size_t index = j * row_pixels + i;
-            vec3 c;
-            // One test per pixel keeps the colour-only path free of the outputs' work.
-            if (aux.empty()) {
-                c = estimate_pixel(x, y, stats.samples, [&](const Ray& ray, const PixelSampler& sampler) {
-                    return integrator_.radiance(ray, sampler, stats.rays);
-                });
-            } else {
-                AuxPixel pixel;
-                c = estimate_pixel(x, y, stats.samples, [&](const Ray& ray, const PixelSampler& sampler) {
-                    AuxSample sample;
-                    const vec3 radiance = integrator_.radiance(ray, sampler, stats.rays, sample);
-                    pixel.add(sample);
-                    return radiance;
-                });
-                aux.store(index, pixel.mean());
+    // Neighbouring rays visit mostly the same BVH nodes; walking a large tile
+    // in small blocks keeps those nodes in cache (a 256-pixel tile row by row
+    // was 8% slower on the dragon than 32-pixel tiles).
+    for (uint32_t block_y = 0; block_y < rows; block_y += kCacheBlock) {
+        for (uint32_t block_x = 0; block_x < columns; block_x += kCacheBlock) {
+            for (uint32_t j = block_y; j < std::min(rows, block_y + kCacheBlock); ++j) {
+                for (uint32_t i = block_x; i < std::min(columns, block_x + kCacheBlock); ++i) {
+                    const size_t index = j * row_pixels + i;
+                    const vec3 c = render_pixel(tile.x + i * scale, tile.y + j * scale, index, aux, stats);
+                    float* out = rgb + index * 3;
+                    out[0] = c.r;
+                    out[1] = c.g;
+                    out[2] = c.b;
+                }
             }
-            float* out = rgb + index * 3;
-            out[0] = c.r;
-            out[1] = c.g;
-            out[2] = c.b;
         }
     }
     return stats;
+}
+
+vec3 Renderer::render_pixel(uint32_t x, uint32_t y, size_t index, const AuxLayers& aux, RenderStats& stats) const {
+    // One test per pixel keeps the colour-only path free of the outputs' work.
+    if (aux.empty()) {
+        return estimate_pixel(x, y, stats.samples, [&](const Ray& ray, const PixelSampler& sampler) {
+            return integrator_.radiance(ray, sampler, stats.rays);
+        });
+    }
+    AuxPixel pixel;
+    const vec3 c = estimate_pixel(x, y, stats.samples, [&](const Ray& ray, const PixelSampler& sampler) {
+        AuxSample sample;
+        const vec3 radiance = integrator_.radiance(ray, sampler, stats.rays, sample);
+        pixel.add(sample);
+        return radiance;
+    });
+    aux.store(index, pixel.mean());
+    return c;
 }
 
 Image Renderer::render(unsigned threads, uint32_t tile_size, const ProgressCallback& progress, RenderStats& stats,

@@ -2,10 +2,17 @@
 // only on its coordinates, never on the tiling or the thread that computed it:
 // it is the mean of its own camera samples (film_sampler.h), as many as
 // samples_per_pixel or, with adaptive sampling, as it needs.
+//
+// When the camera or the scene moves, the pixel averages over the shutter
+// interval (rt.MotionBlur): each camera sample at its own time, stratified like
+// its film position (a lone sample at the middle), or, as the seed did, the
+// mean of motion_frames whole frames at the centres of equal parts of the
+// interval, each taking the full samples_per_pixel.
 #pragma once
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 
 #include "accel.h"
 #include "aov.h"
@@ -74,10 +81,17 @@ class Renderer {
     // render_tile without the checks, writing output row j at pixel j * row_pixels.
     RenderStats render_pixels(const TileRect& tile, uint32_t scale, float* rgb, const AuxLayers& aux,
                               size_t row_pixels) const;
+    // Pixel (x, y), its outputs stored at `index` of `aux`.
+    vec3 render_pixel(uint32_t x, uint32_t y, size_t index, const AuxLayers& aux, RenderStats& stats) const;
+    // Pixels per side of the blocks a tile is walked in.
+    static constexpr uint32_t kCacheBlock = 16;
     // The mean of pixel (x, y)'s samples, `trace(ray, sampler)` giving each
     // one's radiance; adds the number taken to `samples`.
     template <class Trace>
     vec3 estimate_pixel(uint32_t x, uint32_t y, uint64_t& samples, Trace&& trace) const;
+    // The same for one frame: every sample at `time`, or each at its own.
+    template <class Trace>
+    vec3 estimate_frame(uint32_t x, uint32_t y, std::optional<float> time, uint64_t& samples, Trace&& trace) const;
     static uint32_t pixel_key(uint32_t x, uint32_t y);
 
     RenderSettings settings_;
@@ -86,6 +100,10 @@ class Renderer {
     FilmSampler film_;
     StoppingRule stopping_;
     WhittedIntegrator integrator_;
+    // Something moves and settings say how: each sample takes its own time
+    // (TIME_SAMPLED), or motion_frames_ > 0 frames are averaged (FRAMES).
+    bool sample_times_ = false;
+    uint32_t motion_frames_ = 0;
 };
 
 unsigned resolve_thread_count(unsigned requested);

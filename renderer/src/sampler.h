@@ -1,12 +1,13 @@
 // The sample values of one pixel sample, keyed by pixel, sample index and
 // dimension, never by tile or thread.
 //
-// Each dimension (the film position, each light at each bounce) draws 2D points
-// from its own copy of the Sobol' (0,2)-sequence, shuffled and Owen-scrambled by
-// hashing (Burley 2020, "Practical Hash-based Owen Scrambling"). Scrambling
-// keeps the sequence's stratification, so the first 2^m points of a dimension
-// fall one in each elementary interval of area 2^-m whatever the pixel; the
-// shuffle, seeded differently per dimension, keeps dimensions uncorrelated.
+// Each dimension (the film position, the shutter time, each light at each
+// bounce) draws 2D points from its own copy of the Sobol' (0,2)-sequence,
+// shuffled and Owen-scrambled by hashing (Burley 2020, "Practical Hash-based
+// Owen Scrambling"). Scrambling keeps the sequence's stratification, so the
+// first 2^m points of a dimension fall one in each elementary interval of area
+// 2^-m whatever the pixel; the shuffle, seeded differently per dimension, keeps
+// dimensions uncorrelated.
 #pragma once
 
 #include <cstdint>
@@ -89,6 +90,10 @@ class PixelSampler {
     // Where the pixel sample lies within its pixel's filter, as a point of [0,1)^2.
     vec2 film() const { return scrambled_sobol_2d(sample_, hash_combine(key_, kFilmDimension)); }
 
+    // When in the shutter interval, [0, 1), the pixel sample is taken: one
+    // coordinate of its own sequence, which alone is stratified as well.
+    float time() const { return scrambled_sobol_2d(sample_, hash_combine(key_, kTimeDimension)).x; }
+
     // Point `i` of the `count` points this pixel sample takes in `dimension` (a
     // light's index). Pixel sample s takes the points s * count to s * count +
     // count - 1 of the dimension's sequence: together the pixel's samples
@@ -102,8 +107,9 @@ class PixelSampler {
     PixelSampler bounce(uint32_t depth) const { return {hash_combine(key_, depth), sample_}; }
 
   private:
-    // No light index reaches it.
+    // No light index reaches these.
     static constexpr uint32_t kFilmDimension = 0xffffffffu;
+    static constexpr uint32_t kTimeDimension = 0xfffffffeu;
 
     uint32_t key_;
     uint32_t sample_;

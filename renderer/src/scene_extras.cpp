@@ -1,5 +1,6 @@
 #include "scene_extras.h"
 
+#include <cmath>
 #include <stdexcept>
 
 #include "proto_limits.h"
@@ -12,6 +13,25 @@ namespace {
 // when absent.
 vec3 vector_or(const google::protobuf::RepeatedField<float>& values, vec3 fallback) {
     return values.size() == 3 ? vec3(values[0], values[1], values[2]) : fallback;
+}
+
+SceneAdditions::Motion read_motion(const NodeMotion& motion, const std::string& source) {
+    if (motion.node().empty()) throw std::invalid_argument(source + ".node: names no node");
+    SceneAdditions::Motion out{motion.node(), source, {}};
+    const auto& t = motion.translation();
+    if (t.size() == 3) out.close.translation = dvec3(t[0], t[1], t[2]);
+    if (motion.rotation_size() == 4) {
+        // glTF's order: x, y, z, w. Rounded input is made a rotation again.
+        const auto& r = motion.rotation();
+        const dquat q(r[3], r[0], r[1], r[2]);
+        const double length = glm::length(q);
+        if (!(length > 0.0) || !std::isfinite(length))
+            throw std::invalid_argument(source + ".rotation: is not a rotation (a zero quaternion)");
+        out.close.rotation = q / length;
+    }
+    const auto& s = motion.scale();
+    if (s.size() == 3) out.close.scale = dvec3(s[0], s[1], s[2]);
+    return out;
 }
 
 }  // namespace
@@ -58,6 +78,8 @@ SceneAdditions read_scene_extras(std::string_view json, const std::string& sourc
             camera.name().empty() ? source + ".cameras[" + std::to_string(i) + "]" : camera.name();
         additions.cameras.push_back({name, camera.camera()});
     }
+    for (int i = 0; i < extras.motions_size(); ++i)
+        additions.motions.push_back(read_motion(extras.motions(i), source + ".motions[" + std::to_string(i) + "]"));
     return additions;
 }
 

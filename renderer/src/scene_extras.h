@@ -1,5 +1,5 @@
 // What glTF and OBJ cannot say about a scene: analytic spheres, spherical lights,
-// the background colour, named cameras. Read from the sidecar `<scene>.rt.json`
+// the background colour, named cameras, nodes that move. Read from the sidecar `<scene>.rt.json`
 // or a glTF `extras.rt` object, both the JSON form of rt.SceneExtras
 // (proto/rt/scene.proto), and validated against that schema's limits.
 //
@@ -14,6 +14,7 @@
 
 #include "material.h"
 #include "math.h"
+#include "node_transform.h"
 #include "rt/render.pb.h"
 
 namespace rt {
@@ -35,15 +36,23 @@ struct SceneAdditions {
         std::string name;
         Camera camera;
     };
+    // An rt.NodeMotion, for the format loaders to apply: they know the nodes.
+    struct Motion {
+        std::string node;
+        std::string source;  // where it was read, e.g. "cornell.rt.json: extras.motions[0]"
+        NodeTransformParts close;
+    };
     std::vector<ShadedSphere> spheres;
     std::vector<Emitter> lights;
     std::optional<vec3> background;
     std::vector<NamedCamera> cameras;
+    std::vector<Motion> motions;
 };
 
 // Parses `json` as rt.SceneExtras: unknown fields, values outside the schema's
-// limits and non-finite numbers throw std::invalid_argument whose message starts
-// with `source` (e.g. "cornell.rt.json: extras") and names the field.
+// limits, non-finite numbers, unnamed motions and zero quaternions throw
+// std::invalid_argument whose message starts with `source` (e.g.
+// "cornell.rt.json: extras") and names the field.
 SceneAdditions read_scene_extras(std::string_view json, const std::string& source);
 
 }  // namespace rt

@@ -43,18 +43,19 @@ inline vec3 offset_ray_origin(vec3 p, vec3 p_error, vec3 n, vec3 w) {
     return po;
 }
 
-inline Ray spawn_ray(vec3 p, vec3 p_error, vec3 n, vec3 direction) {
-    return Ray{offset_ray_origin(p, p_error, n, direction), direction, kInfinity};
+// `time`: the shutter time of the ray that found p, which the new ray keeps.
+inline Ray spawn_ray(vec3 p, vec3 p_error, vec3 n, vec3 direction, float time) {
+    return Ray{offset_ray_origin(p, p_error, n, direction), direction, kInfinity, time};
 }
 
 // A ray from a surface point towards `target` that stops just short of it, for
 // shadow rays towards a point.
-inline Ray spawn_ray_to(vec3 p, vec3 p_error, vec3 n, vec3 target) {
+inline Ray spawn_ray_to(vec3 p, vec3 p_error, vec3 n, vec3 target, float time) {
     const vec3 to = target - p;
     const float distance = glm::length(to);
     const vec3 w = to / distance;
     const vec3 origin = offset_ray_origin(p, p_error, n, w);
-    return Ray{origin, w, glm::length(target - origin)};
+    return Ray{origin, w, glm::length(target - origin), time};
 }
 
 }  // namespace rt

@@ -6,6 +6,7 @@ namespace rt {
 
 SurfaceHit surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
     SurfaceHit s;
+    s.time = ray.time;
     const size_t triangle_count = scene.triangles.size();
     if (hit.primitive >= triangle_count) {
         const Sphere& sphere = scene.spheres[hit.primitive - triangle_count];
@@ -17,13 +18,19 @@ SurfaceHit surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
     }
 
     const uvec3 tri = scene.triangles[hit.primitive];
-    const vec3 p0 = scene.positions[tri.x], p1 = scene.positions[tri.y], p2 = scene.positions[tri.z];
+    const bool moving = scene.moving();
+    const auto position = [&](uint32_t v) { return moving ? scene.position_at(v, ray.time) : scene.positions[v]; };
+    // Lengths change along the way; the normalisation below restores them.
+    const auto normal = [&](uint32_t v) {
+        return moving ? lerp_position(scene.normals[v], scene.normals_close[v], ray.time) : scene.normals[v];
+    };
+    const vec3 p0 = position(tri.x), p1 = position(tri.y), p2 = position(tri.z);
     const float b0 = 1.0f - hit.u - hit.v;
     s.p = b0 * p0 + hit.u * p1 + hit.v * p2;
     s.p_error = gamma_bound(7) * (glm::abs(b0 * p0) + glm::abs(hit.u * p1) + glm::abs(hit.v * p2));
     s.ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
 
-    const vec3 n = b0 * scene.normals[tri.x] + hit.u * scene.normals[tri.y] + hit.v * scene.normals[tri.z];
+    const vec3 n = b0 * normal(tri.x) + hit.u * normal(tri.y) + hit.v * normal(tri.z);
     const float length = glm::length(n);
     s.ns = length > 0.0f && std::isfinite(length) ? n / length : s.ng;
     if (!scene.texcoords.empty())

@@ -14,11 +14,13 @@ struct SurfaceHit {
     vec3 ns{0.0f};       // interpolated shading normal, unit length
     vec2 uv{0.0f};
     uint32_t material = 0;
+    float time = 0.0f;   // the shutter time of the ray that hit, for the rays spawned here
 };
 
 // The point is interpolated from the triangle's vertices with the barycentrics
 // rather than taken as origin + t * direction: its error then depends only on
-// the vertices' magnitude, not on how far the ray travelled.
+// the vertices' magnitude, not on how far the ray travelled. In a moving scene
+// the vertices and normals are those at ray.time.
 SurfaceHit surface_at(const Scene& scene, const Ray& ray, const Hit& hit);
 
 // Orients both normals towards the side the ray came from (seed 2.1), flipping

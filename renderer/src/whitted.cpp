@@ -253,7 +253,7 @@ vec3 WhittedIntegrator::follow(const SurfaceHit& s, vec3 direction, RayKind kind
     if (depth >= max_depth_ || !(max_component(path_weight) > min_contribution_)) return vec3(0.0f);
     // spawn_ray offsets to the side `direction` leaves on: through the surface
     // for a refracted ray.
-    const Ray ray = spawn_ray(s.p, s.p_error, s.ng, direction);
+    const Ray ray = spawn_ray(s.p, s.p_error, s.ng, direction, s.time);
     return local_weight * trace(ray, kind, depth + 1, path_weight, parent, sampler.bounce(depth + 1), recorder);
 }
 
@@ -304,7 +304,7 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Materia
             const float cos_theta = glm::dot(s.ns, wi);
             if (cos_theta <= 0.0f || glm::dot(s.ng, wi) <= 0.0f) continue;
             bool occluded = false;
-            const int shadow = recorder.shadow(accel_, spawn_ray_to(s.p, s.p_error, s.ng, light.position),
+            const int shadow = recorder.shadow(accel_, spawn_ray_to(s.p, s.p_error, s.ng, light.position, s.time),
                                                depth, parent, uint32_t(light_index), occluded);
             if (occluded) continue;
             const vec3 c = phong_brdf(diffuse, m.specular, m.shininess, s.ns, wo, wi) *
@@ -324,7 +324,7 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Materia
             const float cos_theta = glm::dot(s.ns, sample.wi);
             if (cos_theta <= 0.0f || glm::dot(s.ng, sample.wi) <= 0.0f) continue;
             bool occluded = false;
-            const int shadow = recorder.shadow(accel_, spawn_ray_to(s.p, s.p_error, s.ng, sample.point), depth,
+            const int shadow = recorder.shadow(accel_, spawn_ray_to(s.p, s.p_error, s.ng, sample.point, s.time), depth,
                                                parent, uint32_t(light_index), occluded);
             if (occluded) continue;
             const vec3 c = phong_brdf(diffuse, m.specular, m.shininess, s.ns, wo, sample.wi) * sample.weight *

@@ -45,8 +45,8 @@ TEST(Sphere, SpawnedRaysDoNotSelfIntersect) {
             vec3 out = glm::normalize(n + 0.9f * vec3(unit(rng), unit(rng), unit(rng)));
             if (glm::dot(out, n) <= 0.0f) out = n;
             float t2 = 0.0f;
-            errors += intersect_sphere(spawn_ray(p, error, n, out), s, t2);
-            const Ray inward = spawn_ray(p, error, n, -out);
+            errors += intersect_sphere(spawn_ray(p, error, n, out, 0.0f), s, t2);
+            const Ray inward = spawn_ray(p, error, n, -out, 0.0f);
             // The far side lies 2 r cos(theta) away; the near side would be at ~0.
             const float chord = 2.0f * s.radius * glm::dot(out, n);
             if (!intersect_sphere(inward, s, t2) || std::abs(t2 - chord) > 1e-3f * s.radius) ++errors;

@@ -130,7 +130,7 @@ TEST(Spawn, OffsetOriginsNeverSelfIntersect) {
                 vec3 w = glm::normalize(n * side + 0.9f * vec3(unit(rng), unit(rng), unit(rng)));
                 if (glm::dot(w, n) * side <= 0.0f) w = n * side;
                 TriangleHit again{};
-                self_hits += intersect_triangle(spawn_ray(p, error, n, w), a, b, c, again);
+                self_hits += intersect_triangle(spawn_ray(p, error, n, w, 0.0f), a, b, c, again);
             }
         }
         EXPECT_EQ(self_hits, 0) << "scale " << scale;

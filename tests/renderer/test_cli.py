@@ -1,7 +1,9 @@
 """The rtrender command line: outputs, summary line, errors and exit codes."""
 import json
 import re
+import struct
 import subprocess
+import zlib
 
 import numpy as np
 from PIL import Image
@@ -21,6 +23,8 @@ def test_help_lists_every_render_setting(rtrender):
         assert flag in result.stdout
     assert re.search(r"--pixel-filter NAME +gaussian, box, tent, grid \(default gaussian\)", result.stdout)
     assert re.search(r"--light-sampling NAME +cone, sphere \(default cone\)", result.stdout)
+    assert re.search(r"--tone-map NAME +clip, reinhard, aces \(default clip\)", result.stdout)
+    assert re.search(r"--bloom-strength N +default 0, 0 to 1\n", result.stdout)
 
 
 def test_png_matches_rtcore_and_summary_is_printed(rtrender, scenes_dir, tmp_path):
@@ -153,3 +157,93 @@ def test_aux_outputs_need_an_exr_and_known_names(rtrender, scenes_dir, tmp_path)
     result = run(rtrender, scenes_dir / "cornell.obj", "-o", tmp_path / "x.exr", "--aux", "depth,speed")
     assert result.returncode == 2
     assert "unknown auxiliary output 'speed'" in result.stderr and "bvh_cost" in result.stderr
+
+
+def test_camera_file_with_a_pose_at_shutter_close_blurs(rtrender, scenes_dir, tmp_path):
+    """The seed's look-at shift as a camera file; FRAMES in the settings file is
+    the mean of still frames at the centres of the shutter interval's parts."""
+    still = {"position": [0, 0.5, 1.87], "target": [0, 0.5, 0], "fovY": 40}
+    # 0.125 and the frame times 1/4, 3/4 are exact in binary: the frames' cameras match ours bit for bit.
+    moving = {**still, "shutterClose": {"position": [0, 0.5, 1.87], "target": [0.125, 0.5, 0]}}
+    settings = tmp_path / "settings.json"
+    settings.write_text(json.dumps({"width": 48, "height": 36, "motionBlur": "FRAMES", "motionFrames": 2}))
+    images = {}
+    for name, camera in (("still", still), ("moving", moving)):
+        (tmp_path / f"{name}.json").write_text(json.dumps(camera))
+        out = tmp_path / f"{name}.png"
+        result = run(rtrender, scenes_dir / "cornell.obj", "-o", out, "--settings", settings,
+                     "--camera-file", tmp_path / f"{name}.json", "--quiet")
+        assert result.returncode == 0, result.stderr
+        images[name] = np.asarray(Image.open(out).convert("RGB")).astype(int)
+    assert np.abs(images["moving"] - images["still"]).max() > 50, "the image is blurred"
+
+    scene = rtcore.Scene.load(str(scenes_dir / "cornell.obj"))
+    frames = [scene.render(json.dumps({**still, "target": [0.125 * t, 0.5, 0]}), '{"width": 48, "height": 36}')
+              for t in (0.25, 0.75)]
+    linear = np.mean(frames, axis=0)
+    srgb = np.where(linear <= 0.0031308, 12.92 * linear, 1.055 * np.clip(linear, 0, 1) ** (1 / 2.4) - 0.055)
+    assert np.abs(images["moving"] - np.round(np.clip(srgb, 0, 1) * 255)).max() <= 1
+
+    (tmp_path / "bad.json").write_text(json.dumps({**still, "shutterClose": {"position": [0, 0.5, 1.87],
+                                                                             "target": [0, 0.5, 1.87]}}))
+    result = run(rtrender, scenes_dir / "cornell.obj", "-o", tmp_path / "bad.png", "--camera-file",
+                 tmp_path / "bad.json")
+    assert result.returncode == 2 and "camera.shutter_close: position and target must differ" in result.stderr
+
+
+def read_exr_colour(path):
+    """R, G, B of an EXR as rtrender writes it (float channels, ZIP blocks of 16
+    scanlines) as an (h, w, 3) float32 array."""
+    data = path.read_bytes()
+    header, at = {}, 8
+    while data[at] != 0:
+        name_end = data.index(b"\0", at)
+        type_end = data.index(b"\0", name_end + 1)
+        size = int.from_bytes(data[type_end + 1:type_end + 5], "little")
+        header[data[at:name_end].decode()] = data[type_end + 5:type_end + 5 + size]
+        at = type_end + 5 + size
+    assert header["compression"] == b"\x03", "ZIP compression"
+    x0, y0, x1, y1 = struct.unpack("<4i", header["dataWindow"])
+    width, height = x1 - x0 + 1, y1 - y0 + 1
+    channels = exr_channels(path)
+    image = np.zeros((height, width, len(channels)), np.float32)
+    blocks = (height + 15) // 16
+    for offset in struct.unpack(f"<{blocks}Q", data[at + 1:at + 1 + 8 * blocks]):
+        y, size = struct.unpack("<2i", data[offset:offset + 8])
+        packed = np.frombuffer(zlib.decompress(data[offset + 8:offset + 8 + size]), np.uint8)
+        # Undo OpenEXR's byte predictor, then the split of even and odd bytes.
+        deltas = np.cumsum(packed.astype(np.int64)) - 128 * np.arange(packed.size)
+        split = (deltas % 256).astype(np.uint8)
+        raw = np.empty_like(split)
+        half = (split.size + 1) // 2
+        raw[0::2], raw[1::2] = split[:half], split[half:]
+        rows = min(16, height - (y - y0))
+        lines = np.frombuffer(raw.tobytes(), "<f4").reshape(rows, len(channels), width)
+        image[y - y0:y - y0 + rows] = lines.transpose(0, 2, 1)
+    return image[..., [channels.index(c) for c in "RGB"]]
+
+
+def test_bloom_moves_light_in_the_exr_and_changes_the_png(rtrender, scenes_dir, tmp_path):
+    scene = scenes_dir / "cornell.obj"
+    common = ("--width", 64, "--height", 48, "--quiet")
+    bloom = ("--bloom-strength", 0.8, "--bloom-threshold", 0.3, "--bloom-radius", 12)
+    for name, flags in (("plain", ()), ("bloom", bloom)):
+        for extension in ("exr", "png"):
+            result = run(rtrender, scene, "-o", tmp_path / f"{name}.{extension}", *common, *flags)
+            assert result.returncode == 0, result.stderr
+            assert ("rtrender: bloom " in result.stdout) == (name == "bloom"), result.stdout
+    plain, bloomed = read_exr_colour(tmp_path / "plain.exr"), read_exr_colour(tmp_path / "bloom.exr")
+    assert plain.shape == (48, 64, 3) and plain.max() > 0.3
+    assert np.abs(bloomed - plain).max() > 0.01, "the glow shows in the linear image"
+    np.testing.assert_allclose(bloomed.sum(axis=(0, 1), dtype=np.float64), plain.sum(axis=(0, 1), dtype=np.float64),
+                               rtol=1e-5)
+    png_plain = np.asarray(Image.open(tmp_path / "plain.png"))
+    png_bloom = np.asarray(Image.open(tmp_path / "bloom.png"))
+    assert not np.array_equal(png_plain, png_bloom)
+    # The PNG is the EXR through the display transform: exposure and tone map change it, the EXR not.
+    np.testing.assert_array_equal(rtcore.encode_srgb8(bloomed)[..., :3], png_bloom)
+    shown = tmp_path / "shown.png"
+    result = run(rtrender, scene, "-o", shown, *common, *bloom, "--exposure", -1, "--tone-map", "reinhard")
+    assert result.returncode == 0, result.stderr
+    np.testing.assert_array_equal(np.asarray(Image.open(shown)),
+                                  rtcore.encode_srgb8(bloomed, '{"exposure": -1, "toneMap": "REINHARD"}')[..., :3])

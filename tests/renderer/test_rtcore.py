@@ -1,9 +1,12 @@
 """The rtcore module: loading, tiles, batch ray queries, debugger exports."""
 import json
+import re
+import subprocess
 import threading
 
 import numpy as np
 import pytest
+from PIL import Image
 
 import rtcore
 from rt import debug_pb2, render_pb2
@@ -327,3 +330,107 @@ def test_shadow_rays_name_the_light_they_aim_at(scenes_dir, tmp_path):
         reach = 1e-4 if s.light == 0 else 0.05 * 1.001
         assert np.linalg.norm(np.array(s.end) - aim) <= reach
     assert sum(s.light == 1 for s in shadows) == 4, "light_samples rays at the spherical light"
+
+
+def test_encode_srgb8_applies_exposure_and_tone_map():
+    rgb = (np.random.default_rng(3).random((20, 30, 3)) * 4).astype(np.float32)
+    default = rtcore.encode_srgb8(rgb)
+    assert default.shape == (20, 30, 4) and default.dtype == np.uint8 and (default[..., 3] == 255).all()
+    for same in (None, "{}", b"", '{"exposure": 0, "toneMap": "CLIP"}'):
+        np.testing.assert_array_equal(rtcore.encode_srgb8(rgb, same), default, err_msg=repr(same))
+    # A stop more is the image doubled, before the curve.
+    for curve in ("CLIP", "REINHARD", "ACES"):
+        np.testing.assert_array_equal(rtcore.encode_srgb8(rgb, json.dumps({"exposure": 1, "toneMap": curve})),
+                                      rtcore.encode_srgb8(rgb * 2, json.dumps({"toneMap": curve})), err_msg=curve)
+    reinhard = rtcore.encode_srgb8(rgb, render_pb2.RenderSettings(tone_map=render_pb2.REINHARD).SerializeToString())
+    grey = rtcore.encode_srgb8(np.full((1, 1, 3), 3.0, np.float32), '{"toneMap": "REINHARD"}')
+    assert tuple(grey[0, 0, :3]) == (225, 225, 225), "3 / (1 + 3) = 0.75, sRGB code 225"
+    assert (reinhard[..., :3] <= default[..., :3]).all() and not np.array_equal(reinhard, default)
+
+
+def test_apply_bloom_moves_light_without_adding_any():
+    rgb = np.full((40, 60, 3), 0.2, np.float32)
+    rgb[0, 0] = 30.0  # a corner: its glow must stay inside
+    rgb[20, 30] = [50.0, 20.0, 5.0]
+    before = rgb.copy()
+    out = rtcore.apply_bloom(rgb, '{"bloomStrength": 1, "bloomRadius": 8}')
+    assert out.shape == rgb.shape and out.dtype == np.float32
+    np.testing.assert_array_equal(rgb, before)  # a new array; the input is left alone
+    np.testing.assert_allclose(out.sum(axis=(0, 1), dtype=np.float64), rgb.sum(axis=(0, 1), dtype=np.float64),
+                               rtol=1e-5)
+    assert out[20, 33, 0] > 0.5 and out[20, 30, 0] < 50.0, "light left the bright pixel for its neighbours"
+    assert out[30, 50, 0] == np.float32(0.2), "beyond the glow's reach nothing changes"
+    # Strength 0, the default: nothing moves.
+    np.testing.assert_array_equal(rtcore.apply_bloom(rgb, None), rgb)
+    # Nothing above the threshold: nothing moves either.
+    np.testing.assert_array_equal(rtcore.apply_bloom(rgb, '{"bloomStrength": 1, "bloomThreshold": 60}'), rgb)
+
+
+def test_image_bindings_refuse_bad_shapes_and_settings():
+    for bad in (np.zeros((4, 5), np.float32), np.zeros((4, 5, 4), np.float32), np.zeros((2, 4, 5, 3), np.float32)):
+        expected = r"\(\): expected an \(height, width, 3\) array, got shape " + re.escape(str(bad.shape))
+        with pytest.raises(ValueError, match="apply_bloom" + expected):
+            rtcore.apply_bloom(bad, None)
+        with pytest.raises(ValueError, match="encode_srgb8" + expected):
+            rtcore.encode_srgb8(bad)
+    rgb = np.zeros((2, 2, 3), np.float32)
+    with pytest.raises(ValueError, match=r"settings\.bloomStrength: 2 is above the maximum 1"):
+        rtcore.apply_bloom(rgb, '{"bloomStrength": 2}')
+    with pytest.raises(ValueError, match=r"settings\.bloomRadius: 0 is below the minimum 0\.5"):
+        rtcore.apply_bloom(rgb, '{"bloomStrength": 1, "bloomRadius": 0}')
+    with pytest.raises(ValueError, match="FILMIC"):
+        rtcore.encode_srgb8(rgb, '{"toneMap": "FILMIC"}')
+
+
+def test_bloom_and_display_match_rtrender(rtrender, scenes_dir, tmp_path):
+    """The service's way (render, apply_bloom, encode_srgb8) gives rtrender's PNG byte for byte."""
+    fields = {"width": 64, "height": 48, "bloomThreshold": 0.4, "bloomRadius": 6, "bloomStrength": 0.7,
+              "exposure": 0.5, "toneMap": "ACES"}
+    settings_file = tmp_path / "settings.json"
+    settings_file.write_text(json.dumps(fields))
+    out = tmp_path / "bloom.png"
+    result = subprocess.run([str(rtrender), str(scenes_dir / "cornell.obj"), "-o", str(out), "--settings",
+                             str(settings_file), "--quiet"], capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr
+    assert "bloom" in result.stdout
+    png = np.asarray(Image.open(out).convert("RGB"))
+
+    scene = rtcore.Scene.load(str(scenes_dir / "cornell.obj"))
+    linear = scene.render(scene.default_camera, json.dumps(fields))
+    bloomed = rtcore.apply_bloom(linear, json.dumps(fields))
+    assert not np.array_equal(bloomed, linear), "the threshold is low enough for the lit box to bloom"
+    np.testing.assert_array_equal(rtcore.encode_srgb8(bloomed, json.dumps(fields))[..., :3], png)
+
+
+def test_moving_scenes_and_cameras_blur(scenes_dir):
+    """cornell_motion: its short box moves (an rt.NodeMotion in the sidecar) and
+    its look_shift camera turns as the seed's did; both blur what they move."""
+    scene = rtcore.Scene.load(str(scenes_dir / "cornell_motion.obj"))
+    cameras = dict(scene.cameras)
+    shift = render_pb2.Camera.FromString(cameras["look_shift"])
+    assert shift.HasField("shutter_close") and shift.shutter_close.target[0] == pytest.approx(0.15)
+    still = rtcore.Scene.load(str(scenes_dir / "cornell.obj"))
+    camera = cameras["default"]
+    moving_box = scene.render_tile(camera, settings(samples_per_pixel=16), 0, 0, 48, 36)
+    still_box = still.render_tile(camera, settings(samples_per_pixel=16), 0, 0, 48, 36)
+    assert np.abs(moving_box - still_box).max() > 0.1, "the short box moves"
+
+    # The seed's FRAMES: still frames at the centres of the interval's parts, here 2 at times 1/4 and 3/4.
+    frames = scene.render_tile(cameras["look_shift"], settings(motion_blur=render_pb2.FRAMES, motion_frames=2),
+                               0, 0, 48, 36)
+    sampled = scene.render_tile(cameras["look_shift"], settings(samples_per_pixel=64), 0, 0, 48, 36)
+    sharp = scene.render_tile(camera, settings(samples_per_pixel=64), 0, 0, 48, 36)
+    assert not np.array_equal(frames, sampled)
+    assert np.abs(sampled - frames).mean() < 0.5 * np.abs(sharp - frames).mean(), "both blur alike"
+
+
+def test_camera_poses_at_shutter_close_are_checked(cornell):
+    camera = json.dumps({"position": [0, 0.5, 2], "target": [0, 0.5, 0],
+                         "shutterClose": {"position": [0, 0.5, 2], "target": [0, 0.5, 2]}})
+    with pytest.raises(ValueError, match=r"^camera\.shutter_close: position and target must differ$"):
+        cornell.check(camera, settings())
+    with pytest.raises(ValueError, match=r"camera\.shutterClose\.target: is required"):
+        cornell.check('{"position": [0, 0, 1], "target": [0, 0, 0], "shutterClose": {"position": [0, 0, 2]}}',
+                      settings())
+    defaults = render_pb2.RenderSettings.FromString(rtcore.parse_message("rt.RenderSettings", "{}"))
+    assert defaults.motion_blur == render_pb2.TIME_SAMPLED and defaults.motion_frames == 16
