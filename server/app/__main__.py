@@ -6,4 +6,8 @@ from .core.config import load_settings
 
 if __name__ == "__main__":
     settings = load_settings()
-    uvicorn.run("app.main:app", host=settings.host, port=settings.port, log_level="info")
+    # No permessage-deflate: compressing every tile's pixels on the event loop
+    # took more of a core than assembling the image (the stream is binary
+    # pixels that rarely leave a LAN).
+    uvicorn.run("app.main:app", host=settings.host, port=settings.port, log_level="info",
+                ws_per_message_deflate=False)

@@ -1,10 +1,12 @@
 """/api/jobs: submit, show, list, cancel, images, and the WebSocket tile stream."""
 
 import io
+import json
 import time
 
 import numpy as np
 import pytest
+import rtcore
 from PIL import Image
 from rt import job_pb2
 
@@ -57,6 +59,48 @@ def test_exr_holds_linear_colour(client, cornell_id):
     wait_for(client, job["id"])
     exr = client.get(f"/api/jobs/{job['id']}/image.exr")
     assert exr.status_code == 200 and exr.content[:4] == b"\x76\x2f\x31\x01"
+
+
+def test_a_job_is_done_once_its_layers_are_saved_and_images_are_made_when_asked(client, cornell_id):
+    job = submit(client, cornell_id).json()
+    wait_for(client, job["id"])
+    folder = client.app.state.settings.jobs_dir / job["id"]
+    assert sorted(p.name for p in folder.iterdir()) == ["layers.npz"]
+    with np.load(folder / "layers.npz") as saved:
+        color = saved["color"]
+    first = client.get(f"/api/jobs/{job['id']}/image.png").content
+    assert (folder / "image.png").is_file() and not (folder / "image.exr").exists()
+    assert client.get(f"/api/jobs/{job['id']}/image.png").content == first, "kept, not made again"
+    # The PNG is the saved linear colour, encoded by the renderer's own function.
+    expected = rtcore.encode_srgb8(np.ascontiguousarray(color))[..., :3]
+    assert np.array_equal(np.asarray(Image.open(io.BytesIO(first)).convert("RGB")), expected)
+    assert client.get(f"/api/jobs/{job['id']}/image.exr").status_code == 200
+    assert sorted(p.name for p in folder.iterdir()) == ["image.exr", "image.png", "layers.npz"]
+
+
+def test_bloom_is_one_last_tile_over_the_whole_image_and_moves_light_without_adding_any(client, cornell_id):
+    settings = {"width": 96, "height": 72, "samples_per_pixel": 4, "exposure": 0.5, "tone_map": "REINHARD"}
+    plain = submit(client, cornell_id, settings=settings).json()
+    bloomed = submit(client, cornell_id, settings={**settings, "bloom_strength": 0.8, "bloom_threshold": 0.2}).json()
+    messages = read_stream(client, bloomed["id"])
+    done = wait_for(client, bloomed["id"])
+    assert done["state"] == "DONE" and done["passes"] == 2 and done["tiles_done"] == done["tiles_total"]
+    tiles = [m for m in messages if m.WhichOneof("message") == "tile"]
+    last = tiles[-1].tile.region
+    assert (getattr(last, "pass"), last.x, last.y, last.w, last.h) == (1, 0, 0, 96, 72)
+    png = np.asarray(Image.open(io.BytesIO(client.get(f"/api/jobs/{bloomed['id']}/image.png").content)).convert("RGBA"))
+    assert np.array_equal(assemble(tiles, 96, 72), png), "the stream ends with image.png, bloom included"
+    wait_for(client, plain["id"])
+    layers = {}
+    for job in (plain, bloomed):
+        with np.load(client.app.state.settings.jobs_dir / job["id"] / "layers.npz") as saved:
+            layers[job["id"]] = saved["color"].astype(np.float64)
+    before, after = layers[plain["id"]], layers[bloomed["id"]]
+    assert np.abs(after - before).max() > 0.01, "bloom changed the image"
+    assert after.sum() == pytest.approx(before.sum(), rel=1e-5), "bloom moves light, it adds none"
+    # Exposure and tone map shape the 8-bit image only: the tiles were encoded with them.
+    encoded = rtcore.encode_srgb8(layers[bloomed["id"]].astype(np.float32), json.dumps(settings))
+    assert np.array_equal(png, encoded)
 
 
 def test_aux_outputs_are_images_and_exr_layers(client, cornell_id):

@@ -9,7 +9,6 @@ viewer that paints every tile holds exactly image.png.
 from __future__ import annotations
 
 import io
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -18,13 +17,18 @@ from PIL import Image
 
 from .tile_plan import TileSpec
 
+# A finished job's layers, linear float, named "color" and as AUX_CHANNELS.
+LAYERS_FILE = "layers.npz"
+
 # Channels of each auxiliary layer, as rtcore.render_tile returns them.
 AUX_CHANNELS = {"depth": 1, "normal": 3, "albedo": 3, "bvh_cost": 2}
 
 
-def rgba8(color: np.ndarray) -> np.ndarray:
-    """Linear RGB floats (h, w, 3) as 8-bit sRGB RGBA, the stream's pixel format."""
-    return rtcore.encode_srgb8(np.ascontiguousarray(color, dtype=np.float32))
+def rgba8(color: np.ndarray, settings: bytes | None = None) -> np.ndarray:
+    """Linear RGB floats (h, w, 3) as 8-bit sRGB RGBA, the stream's pixel format,
+    through the exposure and tone map of `settings` (serialized
+    rt.RenderSettings; None: the defaults)."""
+    return rtcore.encode_srgb8(np.ascontiguousarray(color, dtype=np.float32), settings)
 
 
 def png_bytes(rgba: np.ndarray) -> bytes:
@@ -77,33 +81,52 @@ class JobImage:
         self.color = np.zeros((height, width, 3), np.float32)
         self.aux = {name: np.zeros((height, width, AUX_CHANNELS[name]), np.float32) for name in aux}
 
-    def add(self, spec: TileSpec, layers: dict[str, np.ndarray]) -> bytes:
-        """Takes a finished tile; answers its RGBA8 pixels for the stream."""
-        color = layers["color"]
+    def add(self, spec: TileSpec, layers: dict[str, np.ndarray]) -> None:
+        """Takes a finished full-resolution tile's layers (previews only travel to viewers)."""
         if spec.scale == 1:
-            self.color[spec.y:spec.y + spec.h, spec.x:spec.x + spec.w] = color
+            self.color[spec.y:spec.y + spec.h, spec.x:spec.x + spec.w] = layers["color"]
             for name, target in self.aux.items():
                 target[spec.y:spec.y + spec.h, spec.x:spec.x + spec.w] = layers[name].reshape(spec.h, spec.w, -1)
-        return rgba8(color).tobytes()
 
-    def write(self, folder: Path) -> None:
-        """image.exr (colour and every auxiliary layer, linear), image.png, and
-        one PNG per auxiliary layer; each written whole, then renamed. The files
-        are encoded in parallel (both encoders release the GIL)."""
+    def bloom(self, settings: bytes) -> bytes:
+        """Applies the bloom of `settings` to the colour; answers the result's
+        RGBA8 pixels."""
+        self.color = rtcore.apply_bloom(self.color, settings)
+        return rgba8(self.color, settings).tobytes()
+
+    def save(self, folder: Path) -> None:
+        """Every layer in linear float as LAYERS_FILE, written whole, then renamed:
+        the job's result, from which its images are made when asked for."""
         folder.mkdir(parents=True, exist_ok=True)
+        partial = folder / f"part.{LAYERS_FILE}"
+        with open(partial, "wb") as f:
+            np.savez(f, color=self.color, **self.aux)
+        partial.replace(folder / LAYERS_FILE)
 
-        def exr() -> None:
-            partial = folder / "image.part.exr"
-            rtcore.write_exr(str(partial), self.color, dict(self.aux))
-            partial.replace(folder / "image.exr")
 
-        def png(name: str, picture) -> None:
-            partial = folder / f"{name}.part.png"
-            partial.write_bytes(png_bytes(picture()))
-            partial.replace(folder / f"{name}.png")
-
-        pictures = [("image", lambda: rgba8(self.color))]
-        pictures += [(n, lambda n=n, v=v: aux_preview(n, v)) for n, v in self.aux.items()]
-        with ThreadPoolExecutor(max_workers=len(pictures) + 1) as pool:
-            for done in [pool.submit(exr)] + [pool.submit(png, n, p) for n, p in pictures]:
-                done.result()
+def output_file(folder: Path, filename: str, settings: bytes) -> Path:
+    """A done job's image.png, image.exr (colour and every auxiliary layer,
+    linear) or <layer>.png, made from LAYERS_FILE the first time it is asked
+    for and kept. Encoding them (zip for the EXR, zlib for PNGs) costs more
+    than saving the layers, and many jobs never need most of them, so a job is
+    done once its layers are saved. `settings` (the job's, serialized) give image.png its
+    exposure and tone map. Callers serialize calls for one folder. Raises
+    FileNotFoundError when the job has no such layer."""
+    path = folder / filename
+    if path.is_file():
+        return path
+    name, suffix = filename.rsplit(".", 1)
+    with np.load(folder / LAYERS_FILE) as saved:
+        if suffix == "exr":
+            layers = {layer: saved[layer] for layer in saved.files}
+            partial = folder / f"part.{filename}"
+            rtcore.write_exr(str(partial), layers.pop("color"), layers)
+        else:
+            layer = "color" if name == "image" else name
+            if layer not in saved.files:
+                raise FileNotFoundError(path)
+            picture = rgba8(saved[layer], settings) if layer == "color" else aux_preview(name, saved[layer])
+            partial = folder / f"part.{filename}"
+            partial.write_bytes(png_bytes(picture))
+    partial.replace(path)
+    return path

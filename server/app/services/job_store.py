@@ -1,13 +1,14 @@
 """Job records in SQLite, each the serialized rt.Job, so a restart loses none.
 
-One connection per call keeps this safe from any thread; the records are small
-and written a few times per second at most.
+Each thread keeps its own connection (sqlite3 connections must stay in the
+thread that made them); opening one per call cost more than the write itself,
+and progress is saved from the event loop a few times per second.
 """
 
 from __future__ import annotations
 
 import sqlite3
-from contextlib import closing
+import threading
 from pathlib import Path
 
 from rt import job_pb2
@@ -29,9 +30,16 @@ ACTIVE_STATES = (job_pb2.QUEUED, job_pb2.RUNNING)
 class JobStore:
     def __init__(self, database: Path):
         self._database = database
+        self._local = threading.local()
         database.parent.mkdir(parents=True, exist_ok=True)
-        with closing(self._connect()) as db, db:
+        with self._db() as db:
             db.executescript(_SCHEMA)
+
+    def _db(self) -> sqlite3.Connection:
+        db = getattr(self._local, "db", None)
+        if db is None:
+            db = self._local.db = self._connect()
+        return db
 
     def _connect(self) -> sqlite3.Connection:
         db = sqlite3.connect(self._database, timeout=30)
@@ -42,20 +50,20 @@ class JobStore:
         return db
 
     def save(self, job: job_pb2.Job) -> None:
-        with closing(self._connect()) as db, db:
+        with self._db() as db:
             db.execute(
                 "INSERT INTO jobs (id, created_at, scene_id, state, record) VALUES (?, ?, ?, ?, ?) "
                 "ON CONFLICT(id) DO UPDATE SET state = excluded.state, record = excluded.record",
                 (job.id, job.created_at, job.request.scene_id, job.state, job.SerializeToString()))
 
     def get(self, job_id: str) -> job_pb2.Job | None:
-        with closing(self._connect()) as db:
+        with self._db() as db:
             row = db.execute("SELECT record FROM jobs WHERE id = ?", (job_id,)).fetchone()
         return job_pb2.Job.FromString(row[0]) if row else None
 
     def page(self, offset: int, limit: int) -> tuple[list[job_pb2.Job], int]:
         """Newest first."""
-        with closing(self._connect()) as db:
+        with self._db() as db:
             total = db.execute("SELECT COUNT(*) FROM jobs").fetchone()[0]
             rows = db.execute("SELECT record FROM jobs ORDER BY created_at DESC, id LIMIT ? OFFSET ?",
                               (limit, offset)).fetchall()
@@ -63,13 +71,13 @@ class JobStore:
 
     def active(self) -> list[job_pb2.Job]:
         """Jobs that were queued or running, oldest first."""
-        with closing(self._connect()) as db:
+        with self._db() as db:
             rows = db.execute(
                 f"SELECT record FROM jobs WHERE state IN ({','.join('?' * len(ACTIVE_STATES))}) "
                 "ORDER BY created_at", ACTIVE_STATES).fetchall()
         return [job_pb2.Job.FromString(r[0]) for r in rows]
 
     def for_scene(self, scene_id: str) -> list[job_pb2.Job]:
-        with closing(self._connect()) as db:
+        with self._db() as db:
             rows = db.execute("SELECT record FROM jobs WHERE scene_id = ?", (scene_id,)).fetchall()
         return [job_pb2.Job.FromString(r[0]) for r in rows]

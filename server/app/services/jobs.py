@@ -15,6 +15,7 @@ import shutil
 import time
 from collections import OrderedDict
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from distributed import as_completed
 from rt import job_pb2
@@ -22,7 +23,7 @@ from rt import job_pb2
 from ..core.config import Settings
 from ..core.proto import complete, fill_absent
 from .cluster import RenderCluster
-from .job_image import JobImage
+from .job_image import JobImage, output_file
 from .job_store import JobStore
 from .scene_store import SceneStore, StoredScene
 from .streams import TileStream
@@ -60,6 +61,7 @@ class JobManager:
         self._running: dict[str, RunningJob] = {}
         self._finished_streams: OrderedDict[str, TileStream] = OrderedDict()
         self._tiles: dict[str, tuple[RunningJob, TileSpec]] = {}  # Dask key -> its job and tile
+        self._output_lock = asyncio.Lock()
         cluster.client.subscribe_topic(TILE_STARTED_TOPIC, self._tile_started)
 
     async def _tile_started(self, event: tuple[float, str]) -> None:
@@ -132,8 +134,17 @@ class JobManager:
             return running.stream
         return self._finished_streams.get(job_id)
 
-    def folder(self, job_id: str):
+    def folder(self, job_id: str) -> Path:
         return self._settings.jobs_dir / job_id
+
+    async def output_file(self, job_id: str, filename: str) -> Path:
+        """A done job's image.png, image.exr or <layer>.png, made when first
+        asked for (job_image.output_file); raises FileNotFoundError when the job
+        has no such layer. One at a time: making one is CPU-bound, and two
+        requests for the same file must not both make it."""
+        settings = self.get(job_id).request.settings.SerializeToString()
+        async with self._output_lock:
+            return await asyncio.to_thread(output_file, self.folder(job_id), filename, settings)
 
     # --- lifecycle ----------------------------------------------------------
 
@@ -174,8 +185,9 @@ class JobManager:
         passes = plan_passes(request.settings.width, request.settings.height, self._cluster.total_threads(),
                              request.interactive)
         specs = [spec for tiles in passes for spec in tiles]
-        job.passes = len(passes)
-        job.tiles_total = len(specs)
+        bloom = request.settings.bloom_strength > 0
+        job.passes = len(passes) + bloom
+        job.tiles_total = len(specs) + bloom
         total_samples = sum(s.samples for s in specs)
         image = JobImage(request.settings.width, request.settings.height, aux_names(request))
         request_bytes = request.SerializeToString()
@@ -201,8 +213,8 @@ class JobManager:
                 if job.state == job_pb2.QUEUED:
                     job.state = job_pb2.RUNNING
                     job.started_at = result["started"]
-                pixels = image.add(spec, result["layers"])
-                tile = job_pb2.Tile(job=job.id, region=spec.region(), scale=spec.scale, pixels=pixels)
+                image.add(spec, result["layers"])
+                tile = job_pb2.Tile(job=job.id, region=spec.region(), scale=spec.scale, pixels=result["rgba"])
                 await running.stream.publish(job_pb2.TileStreamMessage(tile=tile))
                 job.tiles_done += 1
                 samples_done += spec.samples
@@ -216,7 +228,9 @@ class JobManager:
                 if time.monotonic() - last_saved > PERSIST_EVERY_SECONDS:
                     self._store.save(job)
                     last_saved = time.monotonic()
-            await asyncio.to_thread(image.write, self.folder(job.id))
+            if bloom:
+                await self._bloom(running, image, len(passes))
+            await asyncio.to_thread(image.save, self.folder(job.id))
             self._end(job, job_pb2.DONE)
         except asyncio.CancelledError as e:
             await client.cancel(submitted)
@@ -237,6 +251,18 @@ class JobManager:
                 self._finished_streams[job.id] = running.stream
                 while len(self._finished_streams) > self._settings.kept_streams:
                     self._finished_streams.popitem(last=False)
+
+
+    @staticmethod
+    async def _bloom(running: RunningJob, image: JobImage, pass_index: int) -> None:
+        """Bloom spreads light across tile borders, so it runs on the whole image
+        once every tile is in; viewers receive the result as one last tile."""
+        job = running.record
+        rgba = await asyncio.to_thread(image.bloom, job.request.settings.SerializeToString())
+        region = job_pb2.TileRegion(**{"pass": pass_index}, x=0, y=0, w=image.width, h=image.height)
+        tile = job_pb2.Tile(job=job.id, region=region, scale=1, pixels=rgba)
+        await running.stream.publish(job_pb2.TileStreamMessage(tile=tile))
+        job.tiles_done += 1
 
 
 def final_image_stream(job: job_pb2.Job, rgba) -> list[bytes]:

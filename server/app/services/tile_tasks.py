@@ -12,6 +12,7 @@ import time
 from typing import Any
 
 import numpy as np
+import rtcore
 from distributed import get_worker
 from rt import job_pb2
 
@@ -30,8 +31,10 @@ TILE_STARTED_TOPIC = "rt-tile-started"
 def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, x: int, y: int, w: int, h: int,
                 scale: int) -> dict[str, Any]:
     """Renders one tile: its layers as arrays of ceil(h/scale) x ceil(w/scale)
-    pixels, the rays traced and camera samples taken, and when the worker
-    started and how long it took."""
+    pixels, its colour as the stream's RGBA8 pixels through the job's exposure
+    and tone map (encoded here, so the server's event loop only forwards them),
+    the rays traced and camera samples taken, and when the worker started and
+    how long it took."""
     started = time.time()
     worker = get_worker()
     worker.log_event(TILE_STARTED_TOPIC, worker.get_current_task())
@@ -43,8 +46,10 @@ def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, x: int, 
     layers = scene.render_tile(camera, settings, x, y, w, h, scale=scale, aux=aux_names(request))
     rays = int(layers.pop("rays"))
     samples = int(layers.pop("samples"))
+    layers = {name: np.asarray(array) for name, array in layers.items()}
     return {
-        "layers": {name: np.asarray(array) for name, array in layers.items()},
+        "layers": layers,
+        "rgba": rtcore.encode_srgb8(layers["color"], settings).tobytes(),
         "rays": rays,
         "samples": samples,
         "started": started,

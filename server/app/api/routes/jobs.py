@@ -14,7 +14,7 @@ from rt import job_pb2
 from ...core.proto import json_body, json_response, parse
 from ...core.security import is_authorized
 from ...services.job_image import AUX_CHANNELS, heat_ramp_png
-from ...services.jobs import FINAL_STATES, JobError, JobManager, final_image_stream
+from ...services.jobs import JobError, JobManager, final_image_stream
 from ..deps import jobs, proto_json
 
 router = APIRouter(prefix="/api/jobs", tags=["jobs"])
@@ -68,30 +68,42 @@ async def cancel_job(job_id: str, manager: JobManager = Depends(jobs)):
     return proto_json(await manager.cancel(job_id))
 
 
-def _image_file(manager: JobManager, job_id: str, name: str, suffix: str):
+def _done_job(manager: JobManager, job_id: str) -> None:
     job = job_or_404(manager, job_id)
     if job.state != job_pb2.DONE:
         raise HTTPException(409, f"job '{job_id}' is {job_pb2.JobState.Name(job.state).lower()}: "
                                  "its image exists once it is done")
-    path = manager.folder(job_id) / f"{name}{suffix}"
-    if not path.is_file():
-        raise HTTPException(404, f"job '{job_id}' has no {name} output (ask for it in the request's outputs)")
-    return path
+
+
+def _missing_output(job_id: str, name: str) -> HTTPException:
+    return HTTPException(404, f"job '{job_id}' has no {name} output (ask for it in the request's outputs)")
+
+
+async def _output(manager: JobManager, job_id: str, filename: str):
+    job = job_or_404(manager, job_id)
+    if job.state != job_pb2.DONE:
+        raise HTTPException(409, f"job '{job_id}' is {job_pb2.JobState.Name(job.state).lower()}: "
+                                 "its image exists once it is done")
+    try:
+        return await manager.output_file(job_id, filename)
+    except FileNotFoundError:
+        name = filename.rsplit(".", 1)[0]
+        raise HTTPException(404, f"job '{job_id}' has no {name} output (ask for it in the request's outputs)") from None
 
 
 @router.get("/{job_id}/image.exr", response_class=FileResponse,
             responses={200: {"content": {"image/x-exr": {}}, "description": "Linear colour and auxiliary layers"}})
-def job_exr(job_id: str, manager: JobManager = Depends(jobs)):
-    return FileResponse(_image_file(manager, job_id, "image", ".exr"), media_type="image/x-exr",
+async def job_exr(job_id: str, manager: JobManager = Depends(jobs)):
+    return FileResponse(await _output(manager, job_id, "image.exr"), media_type="image/x-exr",
                         filename=f"{job_id}.exr")
 
 
 @router.get("/{job_id}/{name}.png", response_class=FileResponse,
             responses={200: {"content": {"image/png": {}}, "description": "sRGB colour, or an auxiliary layer"}})
-def job_png(job_id: str, name: str, manager: JobManager = Depends(jobs)):
+async def job_png(job_id: str, name: str, manager: JobManager = Depends(jobs)):
     if name not in IMAGE_NAMES:
         raise HTTPException(404, f"no image named '{name}.png' (one of: {', '.join(IMAGE_NAMES)})")
-    return FileResponse(_image_file(manager, job_id, name, ".png"), media_type="image/png")
+    return FileResponse(await _output(manager, job_id, f"{name}.png"), media_type="image/png")
 
 
 @router.websocket("/{job_id}/tiles")
@@ -114,9 +126,12 @@ async def tile_stream(websocket: WebSocket, job_id: str):
                 await websocket.send_bytes(message)
         else:
             rgba = None
-            png = manager.folder(job_id) / "image.png"
-            if job.state in FINAL_STATES and png.is_file():
-                rgba = await asyncio.to_thread(lambda: np.asarray(Image.open(png).convert("RGBA")))
+            if job.state == job_pb2.DONE:
+                try:
+                    png = await manager.output_file(job_id, "image.png")
+                    rgba = await asyncio.to_thread(lambda: np.asarray(Image.open(png).convert("RGBA")))
+                except FileNotFoundError:
+                    pass  # the stream still ends with the record
             for message in final_image_stream(job, rgba):
                 await websocket.send_bytes(message)
         await websocket.close()
