@@ -296,6 +296,55 @@ describe("rt viewer", { timeout: 170_000 }, () => {
     page.expectedProblems.pop();
   });
 
+  test("camera motion and bloom: the marked pose goes with the job and the canvas ends equal to image.png", async () => {
+    const settings = { width: "320", height: "240", samples_per_pixel: "4", bloom_strength: "0.6", bloom_threshold: "0.3",
+      bloom_radius: "12", exposure: "0.5" };
+    for (const [name, value] of Object.entries(settings)) await page.fill(`#setting-${name}`, value);
+    await page.selectOption("#setting-tone_map", { label: "ACES" });
+    const orbit = (angle) => page.evaluate((a) => {
+      const { viewer } = window.rt;
+      viewer.camera.position.applyAxisAngle({ x: 0, y: 1, z: 0 }, a);
+      viewer.controls.update();
+    }, angle);
+    await orbit(0.06);
+    await page.click("#shutter-mark");
+    const marked = await page.evaluate(() => {
+      const { position, target, up } = window.rt.shutter.pose;
+      return { position: [...position], target: [...target], up: [...up] };
+    });
+    await orbit(-0.06);
+    assert.match(await page.textContent("#shutter-status"), /moves/);
+    const previous = page.url();
+    await page.click("#render-button");
+    await page.waitForURL((url) => url.href !== previous && /\/jobs\/[0-9a-f]+$/.test(url.href), { timeout: 15_000 });
+    const jobId = page.url().split("/").pop();
+    await waitIn(() => document.querySelector("#job-state").textContent === "done" && window.rt.tiles._ended
+      && window.rt.tiles.queue.length === 0, null, "the motion-blurred, bloomed job", 60_000);
+    await screenshot(page, "motion-blur-bloom");
+    const job = await api(`/api/jobs/${jobId}`);
+    for (const key of ["position", "target", "up"]) {
+      marked[key].forEach((v, k) => assert.ok(Math.abs(job.request.camera.shutter_close[key][k] - v) < 1e-5,
+        `shutter_close.${key} is the marked view's`));
+    }
+    assert.equal(job.request.settings.tone_map, "ACES");
+    assert.equal(job.passes, 3, "preview, full resolution, then the bloomed whole image");
+    const shownEqualsPng = await page.evaluate(async (url) => {
+      const canvas = document.getElementById("image-canvas");
+      const shown = canvas.getContext("2d").getImageData(0, 0, canvas.width, canvas.height).data;
+      const bitmap = await createImageBitmap(await (await fetch(url)).blob(),
+        { colorSpaceConversion: "none", premultiplyAlpha: "none" });
+      const check = new OffscreenCanvas(bitmap.width, bitmap.height).getContext("2d");
+      check.drawImage(bitmap, 0, 0);
+      const png = check.getImageData(0, 0, bitmap.width, bitmap.height).data;
+      return png.length === shown.length && png.every((v, i) => v === shown[i]);
+    }, `/api/jobs/${jobId}/image.png`);
+    assert.ok(shownEqualsPng, "the canvas holds image.png byte for byte, bloom included");
+    await page.click("#shutter-clear");
+    assert.equal(await page.evaluate(() => window.rt.shutter.pose), null);
+    for (const name of ["bloom_strength", "exposure"]) await page.fill(`#setting-${name}`, "0");
+    await page.selectOption("#setting-tone_map", { index: 0 });
+  });
+
   test("a narrow window keeps every control on screen", async () => {
     await page.setViewportSize({ width: 420, height: 800 });
     await page.waitForTimeout(200);

@@ -9,6 +9,7 @@ import { JobPanel, stateOf } from "./job-panel.js";
 import { Router } from "./router.js";
 import { ScenesPanel } from "./scenes-panel.js";
 import { SettingsPanel } from "./settings-panel.js";
+import { ShutterPose } from "./shutter-pose.js";
 import { ImageOverlay, RunningTiles } from "./tile-outlines.js";
 import { TileView } from "./tiles.js";
 import { Viewer } from "./viewer.js";
@@ -26,6 +27,7 @@ const layers = new ImageLayers($("layer-buttons"), $("layer-image"), $("heat-leg
 const debug = new DebugPanel(viewer, tiles, overlay);
 const router = new Router();
 const cameraSelect = $("scene-camera");
+const shutter = new ShutterPose(document, viewer);
 
 const state = { scene: null, job: null, poll: null, running: null, sceneLoad: null };
 
@@ -55,7 +57,10 @@ cameraSelect.addEventListener("change", () => {
   if (!info || !cameraSelect.value) return;
   const value = cameraSelect.value;
   const camera = value === "default" ? info.defaultCamera : info.cameras[Number(value.split("-")[1])]?.camera;
-  if (camera) cameraToView(viewer, camera, settings.defaultFov);
+  if (camera) {
+    cameraToView(viewer, camera, settings.defaultFov);
+    shutter.set(camera.shutterClose ?? null);
+  }
   cameraSelect.value = value;
 });
 
@@ -76,6 +81,7 @@ async function selectScene(id, camera = null) {
     scenes.setSelected(id);
     $("scene-title").textContent = `${info.name} · ${info.triangleCount.toLocaleString()} triangles`;
     fillCameras(info);
+    shutter.set(null);
     debug.setScene(info);
     localStorage.setItem("rt.scene", id);
     const load = viewer.loadScene(modelUrl(id), info);
@@ -114,7 +120,7 @@ $("render-form").addEventListener("submit", async (e) => {
   try {
     const job = await submitJob({
       sceneId: state.scene.id,
-      camera: viewToCamera(viewer),
+      camera: shutter.apply(viewToCamera(viewer)),
       settings: settings.settings(),
       outputs: settings.outputValues(),
       interactive: settings.interactive.checked,
@@ -165,6 +171,7 @@ async function openJob(id) {
   const { width, height } = job.request.settings;
   settings.show(job.request.settings, job.request.outputs, job.request.interactive);
   await selectScene(job.request.sceneId, job.request.camera);
+  shutter.set(job.request.camera?.shutterClose ?? null);
   jobPanel.setTilesReceived(0);
   overlay.resize(width, height);
   debug.clear();
@@ -237,5 +244,5 @@ async function start() {
 }
 
 // For the console and the browser tests: the live objects, read-only by convention.
-window.rt = { viewer, settings, scenes, jobPanel, tiles, overlay, layers, debug, router, state };
+window.rt = { viewer, settings, shutter, scenes, jobPanel, tiles, overlay, layers, debug, router, state };
 start();

@@ -9,10 +9,14 @@ import { enumChoices, limitsOf, schema } from "./proto.js";
 const INTEGER_SCALARS = new Set([ScalarType.INT32, ScalarType.UINT32, ScalarType.SINT32, ScalarType.FIXED32,
   ScalarType.SFIXED32, ScalarType.INT64, ScalarType.UINT64, ScalarType.SINT64, ScalarType.FIXED64, ScalarType.SFIXED64]);
 
+// Acronyms with vowels, which the rule below cannot tell from words.
+const ACRONYMS = new Set(["aces"]);
+
 // A field or enum value name in words: "max_depth" is "Max depth"; a word
 // without vowels is an acronym ("BVH_COST" is "BVH cost").
 export function labelOf(name) {
-  const words = name.toLowerCase().split("_").map((w) => (/^[^aeiouy]+$/.test(w) ? w.toUpperCase() : w));
+  const words = name.toLowerCase().split("_")
+    .map((w) => (/^[^aeiouy]+$/.test(w) || ACRONYMS.has(w) ? w.toUpperCase() : w));
   const text = words.join(" ");
   return text.charAt(0).toUpperCase() + text.slice(1);
 }
