@@ -11,19 +11,25 @@ SCENES  := $(BUILD)/scenes
 
 APT_PACKAGES := cmake ninja-build g++ ccache pkg-config git python3 python3-venv python3-dev \
   libopenimageio-dev libglm-dev libtinygltf-dev libtinyobjloader-dev libstb-dev \
-  nlohmann-json3-dev libprotobuf-dev protobuf-compiler libgtest-dev libembree-dev
+  nlohmann-json3-dev libprotobuf-dev protobuf-compiler libgtest-dev libembree-dev \
+  clang libclang-rt-14-dev
 
 CMAKE_FLAGS := -G Ninja -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=$(abspath $(PY)) \
   -DRT_RUNTIME_DIR=$(abspath $(BUILD))
 export CCACHE_DIR ?= $(HOME)/.cache/ccache
+# Seconds each loader fuzz target runs: in `make test` (and `make fuzz`), and in `make bench`.
+FUZZ_SECONDS ?= 15
+BENCH_FUZZ_SECONDS ?= 300
 
-.PHONY: help deps venv build build-asan samples web test test-cpp test-asan test-py test-web run bench clean
+.PHONY: help deps venv build build-asan build-fuzz samples web test test-cpp test-asan fuzz test-py test-web run bench charts clean
 
 help:
 	@echo "make run    serve the app on http://127.0.0.1:8000 (HOST, PORT override)"
 	@echo "make test   build everything and run every test"
 	@echo "make build  build the renderer, rtrender and rtcore"
 	@echo "make bench  benchmarks: BVH against Embree, the seed's table, the service against rtrender"
+	@echo "make fuzz   the loaders' libFuzzer targets, FUZZ_SECONDS each (crashes kept in build/fuzz/crashes)"
+	@echo "make charts speed against accuracy of each sampling method, into docs/charts (on a quiet machine)"
 
 # apt packages, installed only when missing.
 $(BUILD)/.deps: Makefile
@@ -57,6 +63,13 @@ build-asan: $(VENV)/.stamp
 	  -DRT_SANITIZE=ON -DRT_PYTHON=OFF -DRT_BENCH=OFF >/dev/null
 	cmake --build $(BUILD)/asan -j $(JOBS) --target rt_tests
 
+# The loaders' libFuzzer targets (renderer/fuzz), built by clang with ASan+UBSan
+# in a tree of their own, reused when present.
+build-fuzz: $(BUILD)/.deps
+	@test -f $(BUILD)/fuzz/build.ninja || cmake -S renderer -B $(BUILD)/fuzz -G Ninja -DCMAKE_CXX_COMPILER=clang++ \
+	  -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -gline-tables-only" -DRT_FUZZ=ON -DRT_PYTHON=OFF -DRT_BENCH=OFF >/dev/null
+	cmake --build $(BUILD)/fuzz -j $(JOBS) --target fuzzers
+
 samples: $(VENV)/.stamp
 	$(PY) renderer/samples/make_samples.py --out $(SCENES)
 
@@ -64,7 +77,14 @@ test-cpp: build samples
 	cd $(BUILD)/renderer && ctest --output-on-failure -j $(JOBS)
 
 test-asan: build-asan samples
-	cd $(BUILD)/asan && ASAN_OPTIONS=detect_leaks=1 ctest --output-on-failure -j $(JOBS) -R 'Loader|Triangle|Sphere|Spawn|Intersect|Accel|ProtoLimits'
+	cd $(BUILD)/asan && ASAN_OPTIONS=detect_leaks=1 ctest --output-on-failure -j $(JOBS) -R 'Loader|Triangle|Sphere|Spawn|Intersect|Accel|ProtoLimits|Stability'
+
+# Each fuzz target for FUZZ_SECONDS on the corpus it grew so far, seeded with
+# the hostile corpus and the small sample scenes. A crash, sanitizer report,
+# leak or timeout fails; the input stays in build/fuzz/crashes/.
+fuzz: build-fuzz samples
+	$(PY) renderer/fuzz/make_corpus.py --seeds $(BUILD)/fuzz/seeds --samples $(SCENES)
+	$(PY) renderer/fuzz/run_fuzz.py --build $(BUILD)/fuzz --seeds $(BUILD)/fuzz/seeds --seconds $(FUZZ_SECONDS) --jobs $(JOBS)
 
 test-py: build samples
 	$(PY) -m pytest -q tests
@@ -89,7 +109,7 @@ test-web: build samples web
 	  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null; }
 	node --test --test-reporter=spec tests/web/
 
-test: test-cpp test-asan test-py test-web
+test: test-cpp test-asan fuzz test-py test-web
 
 # The job service on http://$${HOST:-127.0.0.1}:$${PORT:-8000} with the sample scenes ready.
 run: build samples web
@@ -99,6 +119,14 @@ bench: build samples
 	$(BUILD)/renderer/bvh_bench --scenes $(SCENES)
 	$(PY) renderer/bench/seed_table.py --scenes $(SCENES) --rtrender $(BUILD)/rtrender --out $(BUILD)/bench
 	$(PY) tests/bench/service_bench.py --scenes $(SCENES) --rtrender $(BUILD)/rtrender
+	$(MAKE) --no-print-directory fuzz FUZZ_SECONDS=$(BENCH_FUZZ_SECONDS)
+
+# Error against render time for each sampling method, and what max_depth and the
+# cutoff trade: PNG, CSV and Markdown per chart into docs/charts. Times are wall
+# clock on every core: run it with nothing else busy. References (many samples)
+# are cached in build/charts, so a rerun only times the test points.
+charts: build samples
+	$(PY) renderer/bench/speed_accuracy.py --scenes $(SCENES) --out docs/charts --cache $(BUILD)/charts
 
 clean:
 	rm -rf $(BUILD)

@@ -42,10 +42,11 @@ PinholeCamera::PinholeCamera(const Camera& camera, uint32_t width, uint32_t heig
 
 void PinholeCamera::check(const Pose& pose, const std::string& what, const std::string& when) {
     const vec3 view = pose.target - pose.position;
-    if (!(glm::length(view) > 0.0f) || !is_finite(view))
+    if (view == vec3(0.0f) || !is_finite(view))
         throw std::invalid_argument(what + ": position and target must differ" + when);
-    const vec3 side = glm::cross(glm::normalize(view), pose.up);
-    if (!(glm::length(side) > 1e-6f * glm::length(pose.up)))
+    // A zero or infinite up normalizes to NaN, which fails the test too.
+    const vec3 side = glm::cross(normalize_any_scale(view), normalize_any_scale(pose.up));
+    if (!(glm::length(side) > 1e-6f))
         throw std::invalid_argument(what + ".up: must not be parallel to the view direction" + when);
 }
 
@@ -55,8 +56,9 @@ PinholeCamera::Pose PinholeCamera::pose_at(float time) const {
 }
 
 PinholeCamera::Frame PinholeCamera::frame(const Pose& pose) const {
-    const vec3 forward = glm::normalize(pose.target - pose.position);
-    const vec3 side = glm::cross(forward, pose.up);
+    // Scenes span 1e-30 to 1e30: so may the distance to the target and the up vector.
+    const vec3 forward = normalize_any_scale(pose.target - pose.position);
+    const vec3 side = glm::cross(forward, normalize_any_scale(pose.up));
     return {pose.position, forward, glm::normalize(side) * tan_x_, glm::normalize(glm::cross(side, forward)) * tan_y_};
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <span>
 #include <string>
@@ -56,6 +57,13 @@ LoadedScene load_obj(std::span<const unsigned char> data, const SceneFolder& fol
 inline bool fits_float(dvec3 v) {
     const double limit = std::numeric_limits<float>::max();
     return std::abs(v.x) <= limit && std::abs(v.y) <= limit && std::abs(v.z) <= limit;
+}
+
+// A number read from a file as a message shows it: 1e+300, not 301 digits.
+inline std::string shown(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", value);
+    return text;
 }
 
 // Throws SceneError naming `what` unless `vertices` and `triangles` more fit

@@ -112,15 +112,21 @@ size_t data_uri_bytes(std::string_view uri) {
 using ReferenceNames = std::map<std::string, std::string>;
 
 // Every buffer and image URI must be a data: URI or a file inside the scene
-// folder; a buffer's data: URI must hold exactly its byteLength.
-void check_references(const Json& doc, const char* array, const SceneFolder& folder, ReferenceNames& names) {
+// folder; a buffer's data: URI must hold exactly its byteLength. Only a GLB's
+// first buffer, its BIN chunk, has none.
+void check_references(const Json& doc, const char* array, bool binary, const SceneFolder& folder,
+                      ReferenceNames& names) {
     const Json* items = member(doc, array);
     if (!items || !items->is_array()) return;
     const bool buffers = std::string_view(array) == "buffers";
     for (size_t i = 0; i < items->size(); ++i) {
         const Json* uri = member((*items)[i], "uri");
-        if (!uri || !uri->is_string()) continue;
         const std::string element = std::string(array) + "[" + std::to_string(i) + "]";
+        if (uri && !uri->is_string()) throw SceneError(folder.scene_name() + ": " + element + ".uri is not a string");
+        if (!uri && buffers && !(binary && i == 0))
+            throw SceneError(folder.scene_name() + ": " + element + " has no uri (only the first buffer of a .glb, "
+                             "its BIN chunk, may leave it out)");
+        if (!uri) continue;
         const std::string& text = uri->get_ref<const std::string&>();
         if (!tinygltf::IsDataURI(text)) {
             const std::string decoded = decode_uri(text);
@@ -165,6 +171,18 @@ void check_image_views(const Json& doc, const std::string& name) {
     }
 }
 
+// nlohmann's messages quote the whole token read last, which may be a data: URI
+// of megabytes: only its start is kept.
+std::string json_error(const Json::exception& e) {
+    constexpr std::string_view kLastRead = "; last read: '";
+    const std::string_view message = e.what();
+    const size_t at = message.find(kLastRead);
+    if (at == std::string_view::npos) return std::string(message);
+    std::string_view token = message.substr(at + kLastRead.size());
+    if (!token.empty() && token.back() == '\'') token.remove_suffix(1);
+    return std::string(message.substr(0, at)) + "; last read: " + in_quotes(token);
+}
+
 void add_extras(const Json& object, const std::string& element, const std::string& name,
                 std::vector<SceneAdditions>& extras) {
     const Json* all = member(object, "extras");
@@ -182,7 +200,7 @@ void add_extras(const Json& object, const std::string& element, const std::strin
 // depth, required extensions, the files it references (named in `names`), image
 // buffer views. Returns the `extras.rt` objects of the asset and of the scene
 // to render, parsed.
-std::vector<SceneAdditions> check_document(std::string_view text, const SceneFolder& folder,
+std::vector<SceneAdditions> check_document(std::string_view text, bool binary, const SceneFolder& folder,
                                            ReferenceNames& names) {
     const std::string& name = folder.scene_name();
     if (json_depth(text) > kMaxJsonDepth)
@@ -191,7 +209,7 @@ std::vector<SceneAdditions> check_document(std::string_view text, const SceneFol
     try {
         doc = Json::parse(text);
     } catch (const Json::exception& e) {
-        throw SceneError(name + ": invalid JSON: " + e.what());
+        throw SceneError(name + ": invalid JSON: " + json_error(e));
     }
     if (!doc.is_object()) throw SceneError(name + ": the glTF document is not a JSON object");
 
@@ -205,8 +223,8 @@ std::vector<SceneAdditions> check_document(std::string_view text, const SceneFol
                                  ", which is not supported");
         }
     }
-    check_references(doc, "buffers", folder, names);
-    check_references(doc, "images", folder, names);
+    check_references(doc, "buffers", binary, folder, names);
+    check_references(doc, "images", binary, folder, names);
     check_image_views(doc, name);
 
     std::vector<SceneAdditions> extras;
@@ -217,7 +235,7 @@ std::vector<SceneAdditions> check_document(std::string_view text, const SceneFol
         if (scenes && scenes->is_array() && scene < scenes->size())
             add_extras((*scenes)[scene], "scenes[" + std::to_string(scene) + "].extras.rt", name, extras);
     } catch (const Json::exception& e) {
-        throw SceneError(name + ": extras.rt: " + e.what());
+        throw SceneError(name + ": extras.rt: " + json_error(e));
     }
     return extras;
 }
@@ -301,7 +319,7 @@ LoadedScene load_gltf(std::span<const unsigned char> data, bool binary, const Sc
     std::string_view json(reinterpret_cast<const char*>(data.data()), data.size());
     if (binary) data = check_glb(data, name, json);
     ReferenceNames names;
-    std::vector<SceneAdditions> extras = check_document(json, folder, names);
+    std::vector<SceneAdditions> extras = check_document(json, binary, folder, names);
 
     FileAccess access{folder, names, {}, std::nullopt};
     tinygltf::TinyGLTF parser;

@@ -34,7 +34,7 @@ void read_dielectric(const tinygltf::Material& source, const std::string& label,
     // Below 1 light would travel faster inside than in the air around it, and
     // Snell's law would refract the wrong way: no glass is like that.
     if (!std::isfinite(ior) || ior < 1.0 || ior > 1e6)
-        throw SceneError(label + ".extensions.KHR_materials_ior.ior is " + std::to_string(ior) +
+        throw SceneError(label + ".extensions.KHR_materials_ior.ior is " + shown(ior) +
                          ", expected a number from 1 to 10^6");
     out.transmission = vec3(float(std::clamp(transmission, 0.0, 1.0)));
     out.ior = float(ior);

@@ -82,6 +82,8 @@ class GltfSceneBuilder {
 
 std::vector<GltfSceneBuilder::Reference> GltfSceneBuilder::root_nodes() const {
     std::vector<Reference> roots;
+    // tinygltf's -1 stands for no `scene` property; below that, the file gave one.
+    if (model_.defaultScene < -1) fail("scene " + std::to_string(model_.defaultScene) + " does not exist");
     if (model_.defaultScene >= 0 || !model_.scenes.empty()) {
         const size_t scene = size_t(std::max(model_.defaultScene, 0));
         if (scene >= model_.scenes.size()) fail("scene " + std::to_string(scene) + " does not exist");

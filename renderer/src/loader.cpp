@@ -56,13 +56,13 @@ void add_extras(SceneAdditions& additions, Scene& scene) {
     for (auto& camera : additions.cameras) scene.cameras.push_back({std::move(camera.name), std::move(camera.camera)});
 }
 
-// Triangles no ray can hit (zero area, or an area that is not finite, at both
+// Triangles no ray can hit (no area, or a vertex that is not finite, at both
 // ends of the shutter interval) would only cost traversal time and poison
 // normals; they go, counted.
 void drop_degenerate_triangles(Scene& scene, const std::string& name) {
     const auto hittable = [](const std::vector<vec3>& positions, uvec3 tri) {
-        const float area = doubled_area(positions[tri.x], positions[tri.y], positions[tri.z]);
-        return area > 0.0f && std::isfinite(area);
+        const double area = doubled_area(positions[tri.x], positions[tri.y], positions[tri.z]);
+        return area > 0.0 && std::isfinite(area);
     };
     size_t kept = 0;
     for (size_t t = 0; t < scene.triangles.size(); ++t) {
@@ -186,10 +186,14 @@ Scene load(Format format, std::span<const unsigned char> data, const SceneFolder
     for (SceneAdditions& additions : loaded.extras) add_extras(additions, loaded.scene);
     add_extras(sidecar_additions, loaded.scene);
     finalise(loaded, folder.scene_name());
+    // Warnings quote the file as errors do (SceneError's constructor).
+    for (std::string& warning : loaded.scene.warnings) warning = printable(warning);
     return std::move(loaded.scene);
 }
 
 }  // namespace
+
+SceneError::SceneError(std::string_view message) : std::runtime_error(printable(message)) {}
 
 void check_geometry_limits(const Scene& scene, size_t vertices, size_t triangles, const std::string& what) {
     if (vertices > kMaxSceneVertices - scene.positions.size())

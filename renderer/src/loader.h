@@ -16,9 +16,11 @@
 
 namespace rt {
 
+// Its message is made one line of valid UTF-8 of bounded length (printable()
+// in scene_files.h), whatever the file it quotes holds.
 class SceneError : public std::runtime_error {
   public:
-    using std::runtime_error::runtime_error;
+    explicit SceneError(std::string_view message);
 };
 
 // Format by extension: .gltf, .glb, .obj.

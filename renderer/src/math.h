@@ -32,6 +32,16 @@ inline float luminance(vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f 
 inline float max_component(vec3 v) { return glm::max(v.x, glm::max(v.y, v.z)); }
 inline int max_dimension(vec3 v) { return v.x > v.y ? (v.x > v.z ? 0 : 2) : (v.y > v.z ? 1 : 2); }
 
+// |v| and v / |v| for vectors of any magnitude. glm::length and
+// glm::normalize square the components, which overflows above about 1e19 and
+// underflows below about 1e-19; dividing by the largest one first keeps the
+// squares near 1. normalize_any_scale(0) is NaN, as glm::normalize(0) is.
+inline float length_any_scale(vec3 v) {
+    const float largest = max_component(glm::abs(v));
+    return largest > 0.0f ? largest * glm::length(v / largest) : 0.0f;
+}
+inline vec3 normalize_any_scale(vec3 v) { return glm::normalize(v / max_component(glm::abs(v))); }
+
 inline bool is_finite(vec3 v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }

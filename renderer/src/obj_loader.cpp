@@ -4,6 +4,7 @@
 // An rt.NodeMotion moves the faces of every object or group of its name (the
 // `o` or `g` line they follow last) in world space.
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <map>
@@ -52,13 +53,17 @@ class FolderMaterialReader : public tinyobj::MaterialReader {
 };
 
 // tinyobjloader repeats some warnings once per line; keep each once, and few.
+// Lines that say nothing go: one of its warnings ends in "\n.".
 void add_warnings(const std::string& text, const std::string& name, std::vector<std::string>& warnings) {
     constexpr size_t kMaxWarnings = 20;
     std::istringstream lines(text);
     std::vector<std::string> seen;
     size_t dropped = 0;
+    const auto says_something = [](const std::string& line) {
+        return std::any_of(line.begin(), line.end(), [](unsigned char c) { return std::isalnum(c); });
+    };
     for (std::string line; std::getline(lines, line);) {
-        if (line.empty() || std::find(seen.begin(), seen.end(), line) != seen.end()) continue;
+        if (!says_something(line) || std::find(seen.begin(), seen.end(), line) != seen.end()) continue;
         if (seen.size() == kMaxWarnings) {
             ++dropped;
             continue;
@@ -119,7 +124,7 @@ Material ObjSceneBuilder::convert(const tinyobj::material_t& source) {
     const double dissolve = std::clamp(source.dissolve, 0.0, 1.0);
     if (dissolve < 1.0) {
         if (source.ior < 1.0)
-            fail(what + " is transparent (d < 1) with Ni " + std::to_string(source.ior) +
+            fail(what + " is transparent (d < 1) with Ni " + shown(source.ior) +
                  ", expected an index of refraction of at least 1");
         out.transmission = vec3(float(1.0 - dissolve));
         out.ior = float(source.ior);
@@ -128,8 +133,11 @@ Material ObjSceneBuilder::convert(const tinyobj::material_t& source) {
     out.diffuse = vec3(kd);
     out.specular = vec3(ks);
     out.shininess = float(std::min(source.shininess, 100000.0));
-    // illum 3, 5 and 7 are MTL's "reflection on, ray trace" models.
-    if (source.illum == 3 || source.illum == 5 || source.illum == 7) out.reflectance = out.specular;
+    // illum 3, 5 and 7 are MTL's "reflection on, ray trace" models. Ks may
+    // exceed 1 as the weight of a lobe, but no mirror returns more light than
+    // it gets: above 1 a path between two mirrors would grow without bound.
+    if (source.illum == 3 || source.illum == 5 || source.illum == 7)
+        out.reflectance = glm::min(out.specular, vec3(1.0f));
     if (!source.diffuse_texname.empty())
         out.diffuse_texture = texture(source.diffuse_texname, source.diffuse_texopt.clamp, what + " map_Kd");
     return out;
@@ -389,7 +397,7 @@ LoadedScene load_obj(std::span<const unsigned char> data, const SceneFolder& fol
         throw SceneError(name + ": " + e.what());
     }
     if (reader.error) throw *reader.error;
-    if (!ok) throw SceneError(name + ": " + error);
+    if (!ok) throw SceneError(name + ": " + error.substr(0, error.find_last_not_of(" \t\r\n") + 1));
 
     LoadedScene loaded = ObjSceneBuilder(folder, attrib).build(shapes, materials, motions);
     std::vector<std::string> parser_warnings;

@@ -113,15 +113,67 @@ std::string decode_uri(std::string_view uri) {
     return out;
 }
 
-std::string in_quotes(std::string_view text) {
-    constexpr size_t kMaxShown = 120;
-    std::string out = "'";
-    for (size_t i = 0; i < std::min(text.size(), kMaxShown); ++i) {
-        const unsigned char c = static_cast<unsigned char>(text[i]);
-        out += (c < 0x20 || c == 0x7f) ? '?' : char(c);
+namespace {
+
+// The length of the well-formed UTF-8 character at text[i] (RFC 3629: no
+// overlong forms, no surrogates, nothing above U+10FFFF), or 0.
+size_t utf8_length(std::string_view text, size_t i) {
+    const auto byte = [&](size_t k) { return static_cast<unsigned char>(text[k]); };
+    const unsigned char lead = byte(i);
+    size_t length = 0;
+    unsigned char low = 0x80, high = 0xBF;  // the range of the second byte
+    if (lead >= 0xC2 && lead <= 0xDF) {
+        length = 2;
+    } else if (lead >= 0xE0 && lead <= 0xEF) {
+        length = 3;
+        if (lead == 0xE0) low = 0xA0;   // overlong
+        if (lead == 0xED) high = 0x9F;  // surrogates
+    } else if (lead >= 0xF0 && lead <= 0xF4) {
+        length = 4;
+        if (lead == 0xF0) low = 0x90;   // overlong
+        if (lead == 0xF4) high = 0x8F;  // above U+10FFFF
     }
-    if (text.size() > kMaxShown) out += "...";
-    return out + "'";
+    if (length == 0 || i + length > text.size()) return 0;
+    if (byte(i + 1) < low || byte(i + 1) > high) return 0;
+    for (size_t k = 2; k < length; ++k)
+        if (byte(i + k) < 0x80 || byte(i + k) > 0xBF) return 0;
+    return length;
+}
+
+}  // namespace
+
+std::string printable(std::string_view text, size_t max_bytes) {
+    std::string out;
+    out.reserve(std::min(text.size(), max_bytes) + 3);
+    for (size_t i = 0; i < text.size();) {
+        const unsigned char c = static_cast<unsigned char>(text[i]);
+        size_t length = 1;
+        char replacement = 0;  // 0: the character itself
+        if (c >= 0x80) {
+            length = utf8_length(text, i);
+            if (length == 0) length = 1, replacement = '?';
+        } else if (c == '\n' || c == '\r' || c == '\t') {
+            replacement = ' ';
+        } else if (c < 0x20 || c == 0x7f) {
+            replacement = '?';
+        }
+        const size_t added = replacement ? 1 : length;
+        if (out.size() + added > max_bytes) {
+            out += "...";
+            break;
+        }
+        if (replacement) out += replacement;
+        else out.append(text.substr(i, length));
+        i += length;
+    }
+    return out;
+}
+
+std::string in_quotes(std::string_view text) {
+    std::string out = "'";  // appended, not "'" + ...: GCC 12 warns wrongly of an overlap (-Wrestrict)
+    out += printable(text, 120);
+    out += '\'';
+    return out;
 }
 
 }  // namespace rt

@@ -52,8 +52,17 @@ std::optional<std::vector<unsigned char>> read_file(const std::filesystem::path&
 // file, so that the path we check is the path it reads.
 std::string decode_uri(std::string_view uri);
 
-// A reference as it may appear in a message: printable and of bounded length,
-// whatever a hostile file put into it.
+// The longest message (SceneError, warning) the loaders hand out.
+inline constexpr size_t kMaxMessageBytes = 1000;
+
+// `text` as one line of valid UTF-8, whatever a hostile file put into it:
+// malformed bytes and control characters become '?', line breaks and tabs
+// spaces; beyond `max_bytes` it is cut at a character boundary and ends "...".
+// Messages quote what files hold, and reach Python and JSON as text.
+std::string printable(std::string_view text, size_t max_bytes = kMaxMessageBytes);
+
+// A reference as it may appear in a message: printable() in quotes, at most
+// 120 bytes of it.
 std::string in_quotes(std::string_view text);
 
 }  // namespace rt

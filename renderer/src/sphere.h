@@ -43,12 +43,17 @@ inline bool intersect_sphere(const Ray& ray, const Sphere& s, float& t_hit) {
     return false;
 }
 
-// The hit point projected back onto the sphere, and its error bound (pbrt-v4).
-inline vec3 sphere_point(const Sphere& s, const Ray& ray, float t, vec3& p_error) {
+// The hit point projected back onto the sphere, its error bound (pbrt-v4) and
+// the outward normal there. The normal comes from the double-precision
+// direction, not from the float point minus the centre, which squares to zero
+// for radii below 1e-19 and vanishes for a sphere too small for floats to
+// tell from its centre.
+inline vec3 sphere_point(const Sphere& s, const Ray& ray, float t, vec3& p_error, vec3& normal) {
     const dvec3 c(s.center);
-    const dvec3 p = c + double(s.radius) * glm::normalize(dvec3(ray.origin) + double(t) * dvec3(ray.direction) - c);
-    const vec3 pf(p);
+    const dvec3 n = glm::normalize(dvec3(ray.origin) + double(t) * dvec3(ray.direction) - c);
+    const vec3 pf(c + double(s.radius) * n);
     p_error = gamma_bound(5) * glm::abs(pf);
+    normal = vec3(n);
     return pf;
 }
 

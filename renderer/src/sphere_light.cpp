@@ -10,7 +10,7 @@ SphereLightSampler::SphereLightSampler(const Light& light, LightSampling method,
     : light_(light), method_(method), p_(p), radiance_(sphere_light_radiance(light)) {
     if (method_ != CONE) return;
     const vec3 to_center = light.position - p;
-    const float distance = glm::length(to_center);
+    const float distance = length_any_scale(to_center);
     axis_ = to_center / distance;
     orthonormal_basis(axis_, b1_, b2_);
     sin_max_ = light.radius / distance;
@@ -44,7 +44,7 @@ bool SphereLightSampler::sample_cone(vec2 u, SphereLightSample& sample) const {
     const float phi = 2.0f * kPi * u.y;
     const vec3 normal = -(sin_alpha * std::cos(phi) * b1_ + sin_alpha * std::sin(phi) * b2_ + cos_alpha * axis_);
     sample.point = light_.position + light_.radius * normal;
-    sample.wi = glm::normalize(sample.point - p_);
+    sample.wi = normalize_any_scale(sample.point - p_);
     sample.weight = cone_weight_;
     return true;
 }
@@ -63,12 +63,13 @@ bool SphereLightSampler::sample_area(vec2 u, SphereLightSample& sample) const {
     const vec3 normal(r * std::cos(phi), r * std::sin(phi), z);
     sample.point = light_.position + light_.radius * normal;
     const vec3 to_p = p_ - sample.point;
-    const float distance2 = glm::dot(to_p, to_p);
-    const float distance = std::sqrt(distance2);
+    const float distance = length_any_scale(to_p);
     const float cos_light = glm::dot(normal, to_p) / distance;
     if (!(cos_light > 0.0f)) return false;
     sample.wi = -to_p / distance;
-    sample.weight = radiance_ * (4.0f * kPi * light_.radius * light_.radius * cos_light / distance2);
+    // r^2 / d^2 as a squared ratio: both squares leave float's range at scales the ratio does not.
+    const float radius_over_distance = light_.radius / distance;
+    sample.weight = radiance_ * (4.0f * kPi * cos_light * radius_over_distance * radius_over_distance);
     return true;
 }
 

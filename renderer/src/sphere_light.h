@@ -14,8 +14,11 @@ namespace rt {
 // gives the irradiance E = pi L sin^2(theta_max) cos(beta) = I cos(beta) / d^2
 // (beta between the normal and the direction to its centre): the point light of
 // the same intensity, which is what `intensity` promises (scene.h).
+// In double: r^2 underflows in float for radii below 1e-19, where the
+// intensity of a light scaled with its scene does too, and 0 / 0 is NaN.
 inline vec3 sphere_light_radiance(const Light& light) {
-    return light.intensity / (kPi * light.radius * light.radius);
+    const double radius = light.radius;
+    return vec3(dvec3(light.intensity) / (double(kPi) * radius * radius));
 }
 
 // A point on a spherical light for a shadow ray, and what it carries.

@@ -1,6 +1,7 @@
 #include "surface.h"
 
 #include "sphere.h"
+#include "triangle.h"
 
 namespace rt {
 
@@ -10,8 +11,7 @@ SurfaceHit surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
     const size_t triangle_count = scene.triangles.size();
     if (hit.primitive >= triangle_count) {
         const Sphere& sphere = scene.spheres[hit.primitive - triangle_count];
-        s.p = sphere_point(sphere, ray, hit.t, s.p_error);
-        s.ng = glm::normalize(s.p - sphere.center);
+        s.p = sphere_point(sphere, ray, hit.t, s.p_error, s.ng);
         s.ns = s.ng;
         s.material = sphere.material;
         return s;
@@ -28,7 +28,10 @@ SurfaceHit surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
     const float b0 = 1.0f - hit.u - hit.v;
     s.p = b0 * p0 + hit.u * p1 + hit.v * p2;
     s.p_error = gamma_bound(7) * (glm::abs(b0 * p0) + glm::abs(hit.u * p1) + glm::abs(hit.v * p2));
-    s.ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+    // Zero only for a triangle with no area, which the loaders drop; one built
+    // otherwise, or moving through such a pose, faces the ray that found it.
+    const dvec3 area = area_normal(p0, p1, p2);
+    s.ng = area != dvec3(0.0) ? vec3(glm::normalize(area)) : -glm::normalize(ray.direction);
 
     const vec3 n = b0 * normal(tri.x) + hit.u * normal(tri.y) + hit.v * normal(tri.z);
     const float length = glm::length(n);

@@ -109,9 +109,15 @@ inline bool intersect_triangle(const Ray& ray, vec3 p0, vec3 p1, vec3 p2, Triang
     return intersect_triangle(WatertightRay(ray), p0, p1, p2, ray.t_max, hit);
 }
 
-// Twice the area; zero for triangles that no ray can hit.
-inline float doubled_area(vec3 p0, vec3 p1, vec3 p2) {
-    return glm::length(glm::cross(p1 - p0, p2 - p0));
+// Normal to the triangle, twice its area long. Formed in double, where products
+// of float coordinates can neither overflow nor underflow: it is zero only for
+// a triangle with no area at all, at any scale (in float it vanishes for edges
+// below 1e-19 and overflows above 1e19).
+inline dvec3 area_normal(vec3 p0, vec3 p1, vec3 p2) {
+    return glm::cross(dvec3(p1) - dvec3(p0), dvec3(p2) - dvec3(p0));
 }
+
+// Twice the area; zero for triangles that no ray can hit.
+inline double doubled_area(vec3 p0, vec3 p1, vec3 p2) { return glm::length(area_normal(p0, p1, p2)); }
 
 }  // namespace rt

@@ -237,7 +237,11 @@ vec3 WhittedIntegrator::trace(const Ray& ray, RayKind kind, uint32_t depth, vec3
     vec3 color = direct_light(s, wo, m, diffuse, vec3(1.0f) - m.transmission, depth, segment, sampler, recorder);
     recorder.contribution(segment, color);
 
-    vec3 mirror = m.reflectance;
+    // The mirror belongs to the Phong surface, which the light that passes the
+    // interface never meets either. The weights of the rays a hit spawns then
+    // add up to at most 1, so min_contribution bounds a camera ray's tree of
+    // rays; with Kr + T above 1 it would double at every glass hit.
+    vec3 mirror = m.reflectance * (vec3(1.0f) - m.transmission);
     if (m.transmission != vec3(0.0f))
         color += transmitted(s, entering, wo, m, mirror, depth, weight, segment, sampler, recorder);
     return color + follow(s, mirror_direction(ray.direction, s), REFLECTION, mirror, depth, weight, segment, sampler,
@@ -307,8 +311,10 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Materia
             const int shadow = recorder.shadow(accel_, spawn_ray_to(s.p, s.p_error, s.ng, light.position, s.time),
                                                depth, parent, uint32_t(light_index), occluded);
             if (occluded) continue;
+            // Intensity first: cos / d^2 alone overflows for lights closer than
+            // 1e-19, where the irradiance of a light scaled with its scene does not.
             const vec3 c = phong_brdf(diffuse, m.specular, m.shininess, s.ns, wo, wi) *
-                           (light.intensity * (cos_theta / distance_squared)) * opacity;
+                           (light.intensity * cos_theta / distance_squared) * opacity;
             recorder.contribution(shadow, c);
             color += c;
             continue;

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "loader_test_util.h"
+#include "scene_files.h"
 
 namespace rt {
 namespace {
@@ -318,6 +319,26 @@ TEST(LoaderHostile, MtlNegativeOrNonFiniteValuesAreRefused) {
     EXPECT_MENTIONS(scene_error([&] { load_scene(dir.write("m.obj", obj)); }), "material 'bad' has a negative Kd");
     dir.write("m.mtl", "newmtl bad\nNs 1e400\n");
     EXPECT_MENTIONS(scene_error([&] { load_scene(dir.write("m.obj", obj)); }), "material 'bad' has a Kd, Ks or Ns");
+}
+
+TEST(LoaderHostile, MessagesAreOnePrintableLineOfUtf8) {
+    // Messages quote what files hold and reach Python and JSON as text.
+    EXPECT_EQ(printable("caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80"), "caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80");
+    EXPECT_EQ(printable("a\xff\xfe\x1b[31mb\x7f"), "a???[31mb?");
+    EXPECT_EQ(printable("line 1.)\nnext\tcolumn\r"), "line 1.) next column ");
+    // Overlong forms, surrogates, code points past U+10FFFF, a character cut short.
+    EXPECT_EQ(printable("\xc0\xaf \xed\xa0\x80 \xf4\x90\x80\x80 \xe2\x82"), "?? ??? ???? ??");
+    // Cut at a character boundary, never inside one.
+    EXPECT_EQ(printable("\xc3\xa9\xc3\xa9\xc3\xa9", 5), "\xc3\xa9\xc3\xa9...");
+    EXPECT_EQ(in_quotes(std::string(200, 'x')), "'" + std::string(120, 'x') + "...'");
+    // The loaders' messages go through it: a SceneError, a warning.
+    EXPECT_EQ(std::string(SceneError("m.obj: 'n\xff'\n").what()), "m.obj: 'n?' ");
+    const Scene scene = load_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl \xff\xfe\nf 1 2 3\n", "u.obj");
+    for (const std::string& warning : scene.warnings) EXPECT_EQ(printable(warning), warning);
+    EXPECT_MENTIONS(scene_error([] { load_text("{\"asset\": \"" + std::string(100000, 'A') + "\xff\"}", "u.gltf"); }),
+                    "u.gltf: invalid JSON");
+    EXPECT_LE(scene_error([] { load_text("{\"asset\": \"" + std::string(100000, 'A') + "\xff\"}", "u.gltf"); }).size(),
+              kMaxMessageBytes);
 }
 
 }  // namespace

@@ -39,9 +39,8 @@ TEST(Sphere, SpawnedRaysDoNotSelfIntersect) {
             const Ray probe{s.center - dir * (3.0f * scale), dir, kInfinity};
             float t = 0.0f;
             if (!intersect_sphere(probe, s, t)) continue;
-            vec3 error;
-            const vec3 p = sphere_point(s, probe, t, error);
-            const vec3 n = glm::normalize(p - s.center);
+            vec3 error, n;
+            const vec3 p = sphere_point(s, probe, t, error, n);
             vec3 out = glm::normalize(n + 0.9f * vec3(unit(rng), unit(rng), unit(rng)));
             if (glm::dot(out, n) <= 0.0f) out = n;
             float t2 = 0.0f;

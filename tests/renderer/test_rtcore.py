@@ -130,6 +130,20 @@ def test_glb_loads_from_bytes(scenes_dir):
         rtcore.Scene.from_bytes(data[:100], "bunny.glb")
 
 
+def test_messages_quoting_bytes_that_are_not_utf8_stay_readable(tmp_path):
+    # A loader message quotes the file; Python must get it as text (ValueError,
+    # not UnicodeDecodeError), and warnings likewise.
+    obj = b"mtllib \xff\xfe.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
+    with pytest.raises(ValueError, match=r"^x\.obj: mtllib '\?\?\.mtl' names another file") as error:
+        rtcore.Scene.from_bytes(obj, "x.obj")
+    assert not isinstance(error.value, UnicodeDecodeError)
+    (tmp_path / "x.obj").write_bytes(obj)
+    assert "x.obj: material library '??.mtl' not found" in rtcore.Scene.load(str(tmp_path / "x.obj")).warnings
+    with pytest.raises(ValueError, match="invalid JSON") as error:
+        rtcore.Scene.from_bytes(b'{"asset": "' + b"A" * 100000 + b'\xff"}', "y.gltf")
+    assert len(str(error.value)) < 1000
+
+
 def test_tiles_render_concurrently_from_threads(cornell):
     camera, results = cornell.default_camera, {}
 

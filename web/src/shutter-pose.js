@@ -17,7 +17,9 @@ export class ShutterPose {
     this.pose = null; // rt.CameraPose, or null for a still camera
     this.markButton.addEventListener("click", () => this.mark());
     this.clearButton.addEventListener("click", () => this.set(null));
-    viewer.addEventListener("camerachange", () => this._describe());
+    // Once an orbit ends, not on every frame of it: rewriting the text re-lays
+    // out the panel, which a software-rendered page pays for in frame rate.
+    viewer.addEventListener("orbitend", () => this._describe());
     this._describe();
   }
 

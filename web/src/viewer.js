@@ -87,6 +87,7 @@ export class Viewer extends EventTarget {
       this.requestRender();
       this.dispatchEvent(new Event("camerachange"));
     });
+    this.controls.addEventListener("end", () => this.dispatchEvent(new Event("orbitend")));
   }
 
   /** The aspect (width / height) of the image to render: the canvas takes it. */
