@@ -22,6 +22,7 @@ FROM node:20-bookworm-slim AS web
 RUN apt-get update && apt-get install -y --no-install-recommends protobuf-compiler && rm -rf /var/lib/apt/lists/*
 WORKDIR /src
 COPY proto proto
+COPY docs/charts docs/charts
 COPY web/package.json web/package-lock.json web/
 RUN cd web && npm ci
 COPY web web

@@ -29,7 +29,7 @@ help:
 	@echo "make build  build the renderer, rtrender and rtcore"
 	@echo "make bench  benchmarks: BVH against Embree, the seed's table, the service against rtrender"
 	@echo "make fuzz   the loaders' libFuzzer targets, FUZZ_SECONDS each (crashes kept in build/fuzz/crashes)"
-	@echo "make charts speed against accuracy of each sampling method, into docs/charts (on a quiet machine)"
+	@echo "make charts speed against accuracy, stability and scaling charts into docs/charts (on a quiet machine)"
 
 # apt packages, installed only when missing.
 $(BUILD)/.deps: Makefile
@@ -97,7 +97,7 @@ web: $(BUILD)/.deps
 	  (cd web && npm ci --no-audit --no-fund) && touch web/node_modules; \
 	fi
 	@if [ ! -f web/dist/index.html ] || [ -n "$$(find web/src web/scripts web/index.html web/vite.config.js \
-	    web/package.json web/package-lock.json proto/rt -newer web/dist/index.html -not -path 'web/src/gen/*' \
+	    web/package.json web/package-lock.json web/charts.html proto/rt docs/charts -newer web/dist/index.html -not -path 'web/src/gen/*' \
 	    -type f 2>/dev/null | head -1)" ]; then \
 	  cd web && npm run build; \
 	else echo "web/dist is up to date"; fi
@@ -121,12 +121,18 @@ bench: build samples
 	$(PY) tests/bench/service_bench.py --scenes $(SCENES) --rtrender $(BUILD)/rtrender
 	$(MAKE) --no-print-directory fuzz FUZZ_SECONDS=$(BENCH_FUZZ_SECONDS)
 
-# Error against render time for each sampling method, and what max_depth and the
-# cutoff trade: PNG, CSV and Markdown per chart into docs/charts. Times are wall
-# clock on every core: run it with nothing else busy. References (many samples)
-# are cached in build/charts, so a rerun only times the test points.
+# The charts under docs/charts (PNG, CSV and Markdown each, an index.json the
+# viewer's /charts page reads, and README.md): error against render time for each
+# sampling method and what max_depth and the cutoff trade; the stability probes;
+# scaling with triangles, threads and Dask workers. Times are wall clock on every
+# core: run it with nothing else busy. References (many samples) are cached in
+# build/charts, so a rerun only times the test points.
 charts: build samples
 	$(PY) renderer/bench/speed_accuracy.py --scenes $(SCENES) --out docs/charts --cache $(BUILD)/charts
+	$(PY) renderer/bench/stability_charts.py --table $(BUILD)/renderer/stability_table --out docs/charts \
+	  --cache $(BUILD)/charts/stability
+	$(PY) renderer/bench/scaling.py --scenes $(SCENES) --rtrender $(BUILD)/rtrender --out docs/charts \
+	  --work $(BUILD)/charts/scaling
 
 clean:
 	rm -rf $(BUILD)

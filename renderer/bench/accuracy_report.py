@@ -1,6 +1,6 @@
 """What speed_accuracy.py writes: per chart a PNG (log-log error against
 time, one curve per method), a CSV and a Markdown table; and README.md listing
-every chart with its headline numbers."""
+the chart index's section (chart_index.py) with each chart's headline and key figures."""
 
 from __future__ import annotations
 
@@ -14,6 +14,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib import ticker  # noqa: E402
+from rt import charts_pb2  # noqa: E402
+
+import chart_index  # noqa: E402
 
 MARKERS = ["o", "s", "^", "D", "v", "P"]
 METRICS = [("rmse", "RMSE (linear radiance)"), ("flip", "mean FLIP (HDR)")]
@@ -82,6 +85,31 @@ def equal_error(result: dict) -> list[dict]:
     return table
 
 
+def error_at(points: list[tuple[float, float]], seconds: float) -> float | None:
+    """A curve's error at `seconds`, interpolated on log-log axes; None
+    outside the times it was measured at."""
+    points = sorted(points)
+    for (t0, e0), (t1, e1) in zip(points, points[1:]):
+        if t0 <= seconds <= t1 and min(e0, e1) > 0:
+            f = (math.log(seconds) - math.log(t0)) / (math.log(t1) - math.log(t0)) if t1 > t0 else 0.0
+            return math.exp(math.log(e0) + f * (math.log(e1) - math.log(e0)))
+    return None
+
+
+def equal_time(result: dict) -> tuple[float, list[tuple[str, float]]] | None:
+    """The longest time every curve compared with the seed's default reaches,
+    and each one's RMSE there: where a method stalls at a bias (the frames'
+    aliasing) or keeps converging shows at equal time, not at equal error."""
+    table = equal_error(result)
+    if not table:
+        return None
+    curves = [(m, rows) for m, against, rows, _ in _curves(result)
+              if against == table[0]["seed"]["reference"] and m.key in {e["method"] for e in table}]
+    seconds = min(max(r["time_s"] for r in rows) for _, rows in curves)
+    at = [(m.label.split(":")[0], error_at([(r["time_s"], r["rmse"]) for r in rows], seconds)) for m, rows in curves]
+    return seconds, [(label, e) for label, e in at if e is not None]
+
+
 def _reach_text(seconds: float | None, how: str, speedup: float | None) -> str:
     if seconds is None:
         return "not reached"
@@ -105,8 +133,13 @@ def headline(result: dict) -> str:
     seed = table[0]["seed"]
     seed_label = next(m.label for m in chart.methods if m.key == seed["method"]).split(":")[0]
     others = [f"{e['label'].split(':')[0]} {_reach_text(*e['rmse'])}" for e in table if e["method"] != seed["method"]]
-    return (f"the seed's default, {seed_label} {seed['point']}, has RMSE {seed['rmse']:.3g} in {seed['time_s']:.3g} s; "
+    line = (f"the seed's default, {seed_label} {seed['point']}, has RMSE {seed['rmse']:.3g} in {seed['time_s']:.3g} s; "
             f"time to the same RMSE: " + ", ".join(others))
+    same_time = equal_time(result)
+    if same_time and len(same_time[1]) > 1:
+        seconds, errors = same_time
+        line += f"; RMSE in {seconds:.3g} s: " + ", ".join(f"{label} {e:.3g}" for label, e in errors)
+    return line
 
 
 # Errors below this are rounding: a float32 image equal to its reference.
@@ -162,11 +195,6 @@ def _plot_depth_times(ax, result: dict) -> None:
                  fontsize=9)
 
 
-def _machine_line(machine: dict) -> str:
-    return (f"{machine['cpu']}, {machine['cores']} cores; {machine['date']}; commit {machine['commit']}; "
-            f"load average at start {machine['load_average']}")
-
-
 def _plot(result: dict, machine: dict, budget, path: Path) -> None:
     chart = result["chart"]
     panels = 3 if chart.depth else 2
@@ -177,7 +205,7 @@ def _plot(result: dict, machine: dict, budget, path: Path) -> None:
         _plot_depth_times(axes[2], result)
     axes[0].legend(fontsize=7, loc="best")
     fig.suptitle(f"{chart.effect}: {chart.scene.label}, {budget.width}x{budget.height}")
-    fig.text(0.5, 0.005, _machine_line(machine) + "; time: median of up to 5 renders (about 1 s)", ha="center",
+    fig.text(0.5, 0.005, chart_index.machine_line(machine) + "; time: median of up to 5 renders (about 1 s)", ha="center",
              fontsize=7, color="#555")
     fig.tight_layout(rect=(0, 0.03, 1, 1))
     fig.savefig(path, dpi=110)
@@ -205,7 +233,7 @@ def _markdown(result: dict, machine: dict, budget, line: str) -> str:
     out = [f"# {chart.effect}: {chart.scene.label}, {budget.width}x{budget.height}", "",
            f"![{chart.effect}: error against render time]({slug}.png)", "",
            f"Scene: {chart.scene_note}.", "",
-           f"Machine: {_machine_line(machine)}. Time: median wall time of `Scene.render` on every core "
+           f"Machine: {chart_index.machine_line(machine)}. Time: median wall time of `Scene.render` on every core "
            f"(tile 32), short renders repeated until about a second is spent (at most 5 renders). Error: RMSE "
            f"of the linear image and mean HDR-FLIP against a converged reference (the References table says "
            f"which one each curve is measured against).", "",
@@ -257,19 +285,44 @@ def write_chart(result: dict, machine: dict, budget, out: Path) -> str:
     return line
 
 
-def write_readme(results: list[dict], machine: dict, budget, out: Path, quick: bool) -> None:
-    lines = ["# Speed against accuracy", "",
-             "Generated by `renderer/bench/speed_accuracy.py` (`make charts`): for each sampled effect, the error "
-             "of each method against a converged reference (many samples) versus its render time, log-log; then "
-             "what max_depth and the min_contribution cutoff trade. Each chart has a CSV and a Markdown table "
-             "beside it.", "",
-             f"Machine: {_machine_line(machine)}. Run: {machine['run_minutes']} min"
-             + (", **quick mode** (tiny images, few points: a test of the script, not a measurement)" if quick else "")
-             + f". Images {budget.width}x{budget.height}.", "",
-             "| chart | what it shows | headline |", "| --- | --- | --- |"]
-    for r in results:
-        chart = r["chart"]
-        methods = "; ".join(m.label for m in chart.methods)
-        lines.append(f"| [{chart.slug}]({chart.slug}.md) ([png]({chart.slug}.png), [csv]({chart.slug}.csv)) | "
-                     f"{chart.effect} on {chart.scene.label}: {methods} | {r['headline']} |")
-    (out / "README.md").write_text("\n".join(lines) + "\n")
+def _key_figures(result: dict):
+    """The chart's table on the Charts page: time to the seed's error for
+    each method, or for the depth charts time and error at each depth."""
+    chart = result["chart"]
+    if chart.depth:
+        by_depth: dict[int, dict[str, dict]] = {}
+        for r in result["rows"]:
+            by_depth.setdefault(r["settings"]["max_depth"], {})[r["method"]] = r
+        cut, off = (m.key for m in chart.methods)
+        return chart_index.table(
+            ["max_depth", "time with the cutoff (s)", "RMSE with the cutoff", "time without (s)", "RMSE without"],
+            [[d, f"{rows[cut]['time_s']:.3g}", _fmt(rows[cut]["rmse"]), f"{rows[off]['time_s']:.3g}",
+              _fmt(rows[off]["rmse"])] for d, rows in sorted(by_depth.items()) if cut in rows and off in rows])
+    table = equal_error(result)
+    if not table:
+        return chart_index.table([], [])
+    seed = table[0]["seed"]
+    seconds, errors = equal_time(result)
+    at = dict(errors)
+    return chart_index.table(
+        ["method", f"time to RMSE {seed['rmse']:.3g} (speed-up)", f"time to FLIP {seed['flip']:.3g} (speed-up)",
+         f"RMSE in {seconds:.3g} s"],
+        [[e["label"], _reach_text(*e["rmse"]), _reach_text(*e["flip"]),
+          f"{at[e['label'].split(':')[0]]:.3g}" if e["label"].split(":")[0] in at else "-"] for e in table])
+
+
+def section(results: list[dict], machine: dict, budget, quick: bool) -> charts_pb2.ChartSection:
+    """The speed-against-accuracy section of the chart index."""
+    summary = ("For each sampled effect, the error of each method against a converged reference (many samples) "
+               "versus its render time, log-log, as RMSE and as mean HDR-FLIP; then what max_depth and the "
+               "min_contribution cutoff trade. The tables give the time each method needs to reach the error of "
+               "the seed's default (speed-up against it). "
+               f"Images {budget.width}x{budget.height}; run {machine['run_minutes']} min; "
+               "made by renderer/bench/speed_accuracy.py."
+               + (" Quick mode: tiny images, few points: a test of the script, not a measurement." if quick else ""))
+    charts = [charts_pb2.Chart(slug=r["chart"].slug,
+                               title=f"{r['chart'].effect}: {r['chart'].scene.label}",
+                               headline=r["headline"][:1].upper() + r["headline"][1:],
+                               table=_key_figures(r)) for r in results]
+    return charts_pb2.ChartSection(key="speed_accuracy", title="Speed against accuracy", summary=summary,
+                                   machine=chart_index.machine_line(machine), charts=charts)

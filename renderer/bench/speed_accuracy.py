@@ -10,7 +10,8 @@ the min_contribution cutoff trade time for error, and how much time the cutoff
 saves at the default depth.
 
 Each chart is a PNG with a CSV and a Markdown table beside it (the machine and
-settings recorded), and README.md lists them all with the headline numbers.
+settings recorded), and the chart index (docs/charts/index.json and README.md) lists them all with
+the headline numbers.
 References (many samples) are cached in --cache, keyed by scene files,
 camera, settings and the rtcore build, so that reruns only time the test points.
 """
@@ -29,6 +30,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import accuracy_report  # noqa: E402
 import accuracy_scenes  # noqa: E402
+import chart_index  # noqa: E402
 from accuracy_measure import Renderer, SceneSpec, machine_info, mean_flip, rmse  # noqa: E402
 
 
@@ -339,7 +341,7 @@ def main() -> int:
         result["headline"] = accuracy_report.write_chart(result, machine, budget, args.out)
         results.append(result)
     machine["run_minutes"] = round((time.perf_counter() - start) / 60, 1)
-    accuracy_report.write_readme(results, machine, budget, args.out, quick=args.quick)
+    chart_index.put_section(args.out, accuracy_report.section(results, machine, budget, quick=args.quick))
     print(f"\n{len(results)} charts in {args.out} ({machine['run_minutes']} min)")
     return 0
 

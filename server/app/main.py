@@ -83,7 +83,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
 
 
 def _serve_viewer(app: FastAPI, settings: Settings) -> None:
-    """The built viewer at /; its client-side routes (/jobs/<id>) get index.html."""
+    """The built viewer at /, its other pages without their .html (/charts),
+    and index.html for the viewer's client-side routes (/jobs/<id>)."""
     index = settings.web_dir / "index.html"
     if not index.is_file():
         log.warning("no viewer at %s (build it with `make web`)", settings.web_dir)
@@ -96,6 +97,9 @@ def _serve_viewer(app: FastAPI, settings: Settings) -> None:
         file = (settings.web_dir / path).resolve()
         if path and file.is_file() and settings.web_dir.resolve() in file.parents:
             return FileResponse(file)
+        page = (settings.web_dir / f"{path.rstrip('/')}.html").resolve()
+        if path and page.is_file() and page.parent == settings.web_dir.resolve():
+            return FileResponse(page)
         if path.startswith("api/"):
             return JSONResponse({"detail": f"no route /{path}"}, status_code=404)
         return FileResponse(index)

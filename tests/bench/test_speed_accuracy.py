@@ -38,8 +38,21 @@ def test_every_chart_has_its_picture_and_tables(charts):
         table = (charts / f"{chart}.md").read_text()
         assert f"({chart}.png)" in table and "Machine:" in table, chart
         assert len(rows(charts, chart, MAIN_METHOD[chart.split("_")[0]])) >= 2, chart
-        assert f"[{chart}]({chart}.md)" in readme
-    assert "quick mode" in readme
+        assert f"({chart}.md)" in readme and f"({chart}.png)" in readme
+    assert "quick mode" in readme.lower()
+
+
+def test_the_index_lists_every_chart_with_its_key_figures(charts):
+    from google.protobuf import json_format
+    from rt import charts_pb2
+
+    index = json_format.Parse((charts / "index.json").read_text(), charts_pb2.ChartIndex())
+    section = next(s for s in index.sections if s.key == "speed_accuracy")
+    assert [c.slug for c in section.charts] == CHARTS
+    assert "cores" in section.machine
+    for chart in section.charts:
+        assert chart.table.rows and all(len(r.cells) == len(chart.table.columns) for r in chart.table.rows), chart.slug
+        assert chart.headline[:1].isupper(), chart.slug
 
 
 def falling(values: list[float]) -> bool:

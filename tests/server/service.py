@@ -1,4 +1,4 @@
-"""Settings for a service under test: its own data folder, no viewer."""
+"""Settings for a service under test: its own data folder, no viewer unless given one."""
 
 from pathlib import Path
 
@@ -6,4 +6,4 @@ from app.core.config import Settings
 
 
 def service_settings(data_dir: Path, **overrides) -> Settings:
-    return Settings(data_dir=data_dir, embedded_threads=2, web_dir=data_dir / "no-viewer", **overrides)
+    return Settings(**{"data_dir": data_dir, "embedded_threads": 2, "web_dir": data_dir / "no-viewer", **overrides})
