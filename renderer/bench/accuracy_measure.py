@@ -59,7 +59,8 @@ def machine_info() -> dict:
     cpu = next((line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines()
                 if line.startswith("model name")), platform.processor() or "unknown")
     commit = _git("rev-parse", "--short=12", "HEAD") or "unknown"
-    if _git("status", "--porcelain", "--untracked-files=no"):
+    # The charts themselves change as a run writes them: only the code counts.
+    if _git("status", "--porcelain", "--untracked-files=no", "--", ".", ":!docs/charts"):
         commit += "+dirty"
     return {"cpu": cpu, "cores": os.cpu_count(), "date": datetime.datetime.now().astimezone().isoformat("T", "seconds"),
             "commit": commit, "load_average": " ".join(f"{v:.2f}" for v in os.getloadavg()),
