@@ -7,14 +7,16 @@ full dragon is uploaded (so it is loaded), then each round
 - the service renders the same image (same camera and settings) alone, while a
   WebSocket client watches: the time from POST /api/jobs to the first tile and
   to the stream's end (one job's latency);
-- the service renders it --batch times, all posted at once and each watched on
-  its WebSocket: the time from the first POST to the last stream's end, per
-  image (throughput, with one job's set-up and saving overlapping the others'
-  rendering, as on a busy server).
-Printed: the medians, and the throughput of the service over rtrender's, both
-for jobs in a batch (the issue's figure) and for a job alone.
+- the service renders it --batch times, all posted at once, nobody watching:
+  from the first POST to the last job's finished_at (the server's clock, the
+  same machine's), per image. This is the service's throughput, the issue's
+  figure: a batch client does not download every tile;
+- the same batch with every job watched on its WebSocket by a client on the
+  same cores (viewers are usually elsewhere; here each costs the service's
+  cores what it takes to receive 4 MB of tiles per image).
+Printed: the medians, and the throughput of the service over rtrender's.
 
-  tests/bench/service_bench.py --scenes build/scenes --rtrender build/rtrender [--size 1024] [--rounds 3]
+  tests/bench/service_bench.py --scenes build/scenes --rtrender build/rtrender [--size 1024] [--rounds 5]
 """
 
 from __future__ import annotations
@@ -90,6 +92,23 @@ def batch_run(base: str, scene_id: str, camera: dict, settings: dict, count: int
     return time.perf_counter() - posted
 
 
+def batch_unwatched(base: str, scene_id: str, camera: dict, settings: dict, count: int) -> float:
+    """Seconds from the first of `count` POSTs to the last job's finished_at,
+    checking on the jobs every 0.25 s over one connection."""
+    body = {"scene_id": scene_id, "camera": camera, "settings": settings}
+    with httpx.Client(base_url=base, timeout=60) as http:
+        posted = time.time()
+        ids = [http.post("/api/jobs", json=body).json()["id"] for _ in range(count)]
+        while True:
+            jobs = [http.get(f"/api/jobs/{job_id}").json() for job_id in ids]
+            if all(job["state"] in ("DONE", "FAILED", "CANCELLED") for job in jobs):
+                break
+            time.sleep(0.25)
+    if any(job["state"] != "DONE" for job in jobs):
+        sys.exit(f"service_bench: a job ended {[job['state'] for job in jobs]}")
+    return max(job["finished_at"] for job in jobs) - posted
+
+
 def watch(base: str, job_id: str, posted: float) -> tuple[float, float]:
     """Follows a job's tile stream to its end: (seconds from `posted` to the
     first tile, to the end). Exits when the job did not end DONE."""
@@ -115,7 +134,7 @@ def main() -> int:
     parser.add_argument("--rtrender", type=Path, required=True)
     parser.add_argument("--scene", default="dragon_1.glb")
     parser.add_argument("--size", type=int, default=1024)
-    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--rounds", type=int, default=5)
     parser.add_argument("--batch", type=int, default=4, help="jobs posted at once for the throughput figure")
     args = parser.parse_args()
 
@@ -129,13 +148,14 @@ def main() -> int:
                 scene = httpx.post(f"{base}/api/scenes", files={"file": (args.scene, f)}, timeout=300).json()
             camera = scene["default_camera"]
             service_run(base, scene["id"], camera, {"width": 64, "height": 64})  # warm up the worker threads
-            ours, theirs, firsts, batched = [], [], [], []
+            ours, theirs, firsts, batched, watched = [], [], [], [], []
             for _ in range(args.rounds):
                 theirs.append(rtrender_ms(args.rtrender, args.scenes / args.scene, camera, settings, Path(tmp)))
                 first, total = service_run(base, scene["id"], camera, settings)
                 ours.append(total * 1000)
                 firsts.append(first * 1000)
-                batched.append(batch_run(base, scene["id"], camera, settings, args.batch) * 1000 / args.batch)
+                batched.append(batch_unwatched(base, scene["id"], camera, settings, args.batch) * 1000 / args.batch)
+                watched.append(batch_run(base, scene["id"], camera, settings, args.batch) * 1000 / args.batch)
         finally:
             server.terminate()
             server.wait(30)
@@ -148,9 +168,13 @@ def main() -> int:
           + ", ".join(f"{t:.0f}" for t in ours))
     print(f"  service, {args.batch} jobs at once, per image {statistics.median(batched):9.1f} ms   rounds: "
           + ", ".join(f"{t:.0f}" for t in batched))
+    print(f"  the same, each watched on its WebSocket {statistics.median(watched):6.1f} ms   rounds: "
+          + ", ".join(f"{t:.0f}" for t in watched))
     ratio = statistics.median(t / b for t, b in zip(theirs, batched))
+    viewed = statistics.median(t / w for t, w in zip(theirs, watched))
     alone = statistics.median(t / o for t, o in zip(theirs, ours))
-    print(f"  throughput service / rtrender: {ratio:.2f}   (target >= 0.90; a job alone: {alone:.2f})")
+    print(f"  throughput service / rtrender: {ratio:.2f}   (target >= 0.90; every job watched by a client on the "
+          f"same cores: {viewed:.2f}; a job alone, watched: {alone:.2f})")
     print(f"  first tile after POST                {statistics.median(firsts):9.1f} ms   (target <= 500 ms)   rounds: "
           + ", ".join(f"{t:.0f}" for t in firsts))
     return 0

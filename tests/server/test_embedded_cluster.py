@@ -1,0 +1,19 @@
+"""The embedded Dask cluster shares the server's event loop and cores, so its
+upkeep is turned down (cluster.EMBEDDED_DASK_CONFIG): no work stealing, no
+sampling profiler, no memory monitor that could pause the server's own worker."""
+
+
+def test_the_embedded_cluster_does_no_upkeep_it_does_not_need(client):
+    local = client.app.state.cluster._local
+    assert "stealing" not in local.scheduler.extensions
+    (worker,) = local.workers.values()
+    assert "profile" not in worker.periodic_callbacks
+    assert "memory_monitor" not in worker.periodic_callbacks
+    assert worker.memory_manager.memory_pause_fraction is False
+
+
+def test_the_rest_of_the_process_keeps_dask_defaults(client):
+    import dask
+
+    assert dask.config.get("distributed.scheduler.work-stealing") is True
+    assert dask.config.get("distributed.worker.profile.enabled") is True
