@@ -17,7 +17,10 @@ float sample_tent(float u) {
 vec2 sample_gaussian(vec2 u) {
     const float two_sigma2 = 2.0f * kGaussianSigma * kGaussianSigma;
     const float kept = -std::expm1(-kGaussianRadius * kGaussianRadius / two_sigma2);  // 1 - e^(-R^2 / 2 sigma^2)
-    const float r = std::sqrt(-two_sigma2 * std::log1p(-u.x * kept));
+    // log, not log1p: 1 - u kept only rounds to 1 for u below 1e-7, where the
+    // radius is 1e-4 pixels either way, and logf costs a fraction of log1pf
+    // (which was 9% of a 16-sample render of the Cornell box).
+    const float r = std::sqrt(-two_sigma2 * std::log(1.0f - u.x * kept));
     const float phi = 2.0f * kPi * u.y;
     return {r * std::cos(phi), r * std::sin(phi)};
 }
