@@ -316,7 +316,8 @@ def section(results: list[dict], machine: dict, budget, quick: bool) -> charts_p
     summary = ("For each sampled effect, the error of each method against a converged reference (many samples) "
                "versus its render time, log-log, as RMSE and as mean HDR-FLIP; then what max_depth and the "
                "min_contribution cutoff trade. The tables give the time each method needs to reach the error of "
-               "the seed's default (speed-up against it). "
+               "the seed's default (speed-up against it), and each one's error at the longest time all of them "
+               "were measured at, where a method that stalls at a bias shows. "
                f"Images {budget.width}x{budget.height}; run {machine['run_minutes']} min; "
                "made by renderer/bench/speed_accuracy.py."
                + (" Quick mode: tiny images, few points: a test of the script, not a measurement." if quick else ""))
