@@ -205,11 +205,7 @@ def _plot(result: dict, machine: dict, budget, path: Path) -> None:
         _plot_depth_times(axes[2], result)
     axes[0].legend(fontsize=7, loc="best")
     fig.suptitle(f"{chart.effect}: {chart.scene.label}, {budget.width}x{budget.height}")
-    fig.text(0.5, 0.005, chart_index.machine_line(machine) + "; time: median of up to 5 renders (about 1 s)", ha="center",
-             fontsize=7, color="#555")
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    chart_index.save_figure(fig, machine, path, "; time: median of up to 5 renders (about 1 s)")
 
 
 def _fmt(value: float) -> str:

@@ -28,6 +28,17 @@ def machine_line(machine: dict) -> str:
             f"load average at start {machine['load_average']}")
 
 
+def save_figure(fig, machine: dict, path: Path, note: str = "") -> None:
+    """Writes a chart's PNG with the machine line (and `note`) along its foot,
+    as every chart carries where its numbers come from."""
+    import matplotlib.pyplot as plt
+
+    fig.text(0.5, 0.005, machine_line(machine) + note, ha="center", fontsize=7, color="#555")
+    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 def read_index(out: Path) -> charts_pb2.ChartIndex:
     index = charts_pb2.ChartIndex()
     if (out / INDEX).exists():

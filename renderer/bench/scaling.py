@@ -76,11 +76,6 @@ def log_fit(rows: list[dict], key: str) -> tuple[float, float, float]:
     return a, b, r2
 
 
-def _footer(fig, machine: dict, extra: str = "") -> None:
-    fig.text(0.5, 0.005, chart_index.machine_line(machine) + extra, ha="center", fontsize=7, color="#555")
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
-
-
 def triangles_chart(rows: list[dict], size: int, machine: dict, out: Path) -> charts_pb2.Chart:
     dragons = [r for r in rows if r["scene"] in DRAGONS]
     fig, axes = plt.subplots(1, 2, figsize=(13, 5))
@@ -120,9 +115,7 @@ def triangles_chart(rows: list[dict], size: int, machine: dict, out: Path) -> ch
     axes[1].legend(fontsize=7)
     axes[1].grid(True, which="both", linewidth=0.3, alpha=0.6)
     fig.suptitle("Scaling with triangle count: the sample scenes from their default cameras, default settings")
-    _footer(fig, machine)
-    fig.savefig(out / "scaling_triangles.png", dpi=110)
-    plt.close(fig)
+    chart_index.save_figure(fig, machine, out / "scaling_triangles.png")
 
     small, large = dragons[0], dragons[-1]
     a, b, r2 = fits["nodes_per_ray"]
@@ -173,9 +166,7 @@ def seed_chart(rtrender: Path, scenes: Path, work: Path, machine: dict, out: Pat
     ax.set_title("the seed does not give its image size or machine; its sphere-light row samples whole spheres",
                  fontsize=9)
     fig.suptitle("The origin document's performance table, with ours beside it")
-    _footer(fig, machine)
-    fig.savefig(out / "scaling_seed_table.png", dpi=110)
-    plt.close(fig)
+    chart_index.save_figure(fig, machine, out / "scaling_seed_table.png")
     sphere = next(r for r in rows if "sphere light" in r["seed_scene"])
     headline = (f"The seed's slowest row, the Cornell box with a sphere light ({sphere['seed_time']}), takes "
                 f"{sphere['render_ms']:.0f} ms here at {width}x{height} with 16 shadow rays per light")
@@ -211,9 +202,7 @@ def throughput_chart(t: scaling_cluster.Throughput, machine: dict, out: Path) ->
     ax.legend(fontsize=8)
     ax.grid(True, which="both", linewidth=0.3, alpha=0.6)
     fig.suptitle("Throughput against threads and Dask workers")
-    _footer(fig, machine)
-    fig.savefig(out / "scaling_throughput.png", dpi=110)
-    plt.close(fig)
+    chart_index.save_figure(fig, machine, out / "scaling_throughput.png")
     two = t.workers[1] / t.workers[2]
     best = max(counts, key=lambda n: mpix(t.projected(n)))
     ceiling = max(mpix(t.projected(n, t.best_side(n))) for n in counts)

@@ -44,11 +44,6 @@ def read_csv(path: Path) -> list[dict]:
         return list(csv.DictReader(f))
 
 
-def _footer(fig, machine: dict) -> None:
-    fig.text(0.5, 0.005, chart_index.machine_line(machine), ha="center", fontsize=7, color="#555")
-    fig.tight_layout(rect=(0, 0.03, 1, 1))
-
-
 def self_intersection_chart(rows: list[dict], machine: dict, out: Path) -> charts_pb2.Chart:
     fig, axes = plt.subplots(1, 2, figsize=(12.4, 4.8))
     panels = [("wrongly_shadowed", "wrongly shadowed: lit surfaces (% of hits)"),
@@ -65,9 +60,7 @@ def self_intersection_chart(rows: list[dict], machine: dict, out: Path) -> chart
         ax.grid(True, linewidth=0.3, alpha=0.6)
     axes[0].legend(fontsize=8)
     fig.suptitle("Self-intersection against scene scale: where the shadow ray starts")
-    _footer(fig, machine)
-    fig.savefig(out / "stability_self_intersection.png", dpi=110)
-    plt.close(fig)
+    chart_index.save_figure(fig, machine, out / "stability_self_intersection.png")
 
     def worst(method: str, column: str) -> float:
         return max(100 * float(r[column]) for r in rows if r["method"] == method)
@@ -110,9 +103,7 @@ def edge_leak_chart(rows: list[dict], machine: dict, out: Path) -> charts_pb2.Ch
     ax.set_title(f"{rays:,} rays aimed exactly at edges and vertices, in the renderer's BVH", fontsize=10)
     ax.legend(fontsize=8, loc="upper center", ncols=2)
     fig.suptitle("Leaks through shared edges and vertices")
-    _footer(fig, machine)
-    fig.savefig(out / "stability_edge_leaks.png", dpi=110)
-    plt.close(fig)
+    chart_index.save_figure(fig, machine, out / "stability_edge_leaks.png")
     ours = sum(int(r["leaks"]) for r in rows if r["method"] == "ours")
     mt = sum(int(r["leaks"]) for r in rows if r["method"] == "moller_trumbore")
     headline = (f"Ours: {ours:,} leaks in {rays:,} rays; Moller-Trumbore lets {mt:,} through "
@@ -163,9 +154,7 @@ def depth_chart(depth: list[dict], non_finite: list[dict], machine: dict, out: P
     axes[2].legend(fontsize=7, loc="upper right")
     axes[2].set_title("no NaN or Inf reaches a pixel", fontsize=10)
     fig.suptitle("Two facing mirrors and glass in glass stop at the depth limit; degenerate input stays finite")
-    _footer(fig, machine)
-    fig.savefig(out / "stability_depth_bound.png", dpi=110)
-    plt.close(fig)
+    chart_index.save_figure(fig, machine, out / "stability_depth_bound.png")
     deepest = max(int(r["max_depth"]) for r in depth)
     worst = max((r for r in depth if int(r["max_depth"]) == deepest), key=lambda r: float(r["seconds"]))
     over = [r for r in depth if int(r["closest_rays"]) > int(r["bound"])]
