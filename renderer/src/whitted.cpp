@@ -1,6 +1,10 @@
 #include "whitted.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
 
 #include "dielectric.h"
 #include "sampling.h"
@@ -164,6 +168,28 @@ WhittedIntegrator::WhittedIntegrator(const Accelerator& accel, const RenderSetti
       light_sampling_(settings.light_sampling()) {
     for (size_t i = 0; i < scene_.lights.size(); ++i)
         if (scene_.lights[i].radius > 0.0f) sphere_lights_.push_back(uint32_t(i));
+    const bool splits = std::any_of(scene_.materials.begin(), scene_.materials.end(),
+                                    [](const Material& m) { return m.transmission != vec3(0.0f); });
+    const double bound = closest_rays_bound(max_depth_, min_contribution_, splits ? 2 : 1);
+    if (bound > kMaxRaysPerCameraSample) {
+        char rays[32], cutoff[32];
+        std::snprintf(rays, sizeof rays, "%.3g", bound);
+        std::snprintf(cutoff, sizeof cutoff, "%g", double(min_contribution_));
+        throw std::invalid_argument(
+            "settings.maxDepth: " + std::to_string(max_depth_) + " with settings.minContribution " + cutoff +
+            " lets one camera ray split into up to " + rays +
+            " rays at this scene's transparent surfaces (the most allowed is " +
+            std::to_string(uint64_t(kMaxRaysPerCameraSample)) + "): lower maxDepth or raise minContribution");
+    }
+}
+
+double closest_rays_bound(uint32_t max_depth, float min_contribution, uint32_t branches) {
+    double bound = 0.0, rays_at_depth = 1.0;
+    for (uint32_t d = 0; d <= max_depth; ++d, rays_at_depth *= branches) {
+        const double above_cutoff = min_contribution > 0.0f ? std::ceil(1.0 / min_contribution) - 1.0 : rays_at_depth;
+        bound += std::min(rays_at_depth, above_cutoff);
+    }
+    return bound;
 }
 
 vec3 WhittedIntegrator::radiance(const Ray& ray, const PixelSampler& sampler, RayCounts& counts) const {

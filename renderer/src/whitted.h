@@ -35,9 +35,25 @@ struct RayCounts {
     }
 };
 
+// The most closest-hit rays (camera, reflection, refraction) one camera sample
+// can trace when each hit spawns at most `branches` of them (1 on mirrors, 2 on
+// glass: a reflection and a refraction). Depth d holds at most branches^d, and
+// fewer than 1 / min_contribution whose path weight is above it, because the
+// weights of the rays a hit spawns add up to at most 1 (for grey materials;
+// with coloured ones each channel's do, which allows up to three times as many).
+double closest_rays_bound(uint32_t max_depth, float min_contribution, uint32_t branches);
+
+// The most closest_rays_bound() a render may allow: about a second per camera
+// sample. Glass at max_depth 64 with the default cutoff allows some 56,000;
+// without a cutoff, 2^65.
+inline constexpr double kMaxRaysPerCameraSample = double(1 << 20);
+
 class WhittedIntegrator {
   public:
-    // `settings` must have had its limits applied (proto_limits.h).
+    // `settings` must have had its limits applied (proto_limits.h). Throws
+    // std::invalid_argument naming max_depth and min_contribution when they let
+    // a camera ray split into more than kMaxRaysPerCameraSample rays through
+    // the scene's transmissive materials: a render that would never end.
     WhittedIntegrator(const Accelerator& accel, const RenderSettings& settings);
 
     // Linear RGB carried back along a camera ray. `sampler` gives the pixel

@@ -4,6 +4,10 @@
 // so that even max_depth 64 renders quickly.
 #include <gtest/gtest.h>
 
+#include <stdexcept>
+#include <string>
+#include <utility>
+
 #include "loader_test_util.h"
 #include "proto_limits.h"
 #include "stability_probes.h"
@@ -56,6 +60,30 @@ TEST(StabilityDepthBound, MaxDepth64FinishesWithinTheCutoffsBound) {
         // tree doubling at each of 64 depths would take years.
         EXPECT_LT(run.seconds, 10.0) << d.name;
     }
+}
+
+// Settings under which glass could split a camera ray into more rays than
+// finish in a second are refused when the renderer is made, naming both
+// settings, instead of rendering for years; mirrors alone never split.
+TEST(StabilityDepthBound, SettingsThatWouldNeverFinishAreRefused) {
+    const DepthScene glass = nested_glass_between_mirrors();
+    const Accelerator accel(glass.scene, 1);
+    for (const auto& [max_depth, min_contribution] : {std::pair{64u, 0.0f}, {64u, 1e-7f}, {20u, 0.0f}}) {
+        try {
+            const Renderer renderer(accel, depth_settings(max_depth, min_contribution), glass.camera);
+            ADD_FAILURE() << "max_depth " << max_depth << ", min_contribution " << min_contribution << " accepted";
+        } catch (const std::invalid_argument& e) {
+            const std::string message = e.what();
+            EXPECT_NE(message.find("settings.maxDepth: " + std::to_string(max_depth)), std::string::npos) << message;
+            EXPECT_NE(message.find("settings.minContribution"), std::string::npos) << message;
+        }
+    }
+    for (const auto& [max_depth, min_contribution] : {std::pair{64u, 0.001f}, {19u, 0.0f}, {64u, 1e-4f}})
+        EXPECT_NO_THROW(Renderer(accel, depth_settings(max_depth, min_contribution), glass.camera))
+            << max_depth << " " << min_contribution;
+    const DepthScene mirrors = facing_mirrors();
+    const Accelerator mirror_accel(mirrors.scene, 1);
+    EXPECT_NO_THROW(Renderer(mirror_accel, depth_settings(64, 0.0f), mirrors.camera));
 }
 
 // Ks above 1 is a lobe weight; as a mirror it would return more light than it gets.

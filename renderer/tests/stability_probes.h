@@ -203,22 +203,6 @@ inline uint64_t non_finite_pixels(const Scene& scene, const Camera& camera, cons
     return count;
 }
 
-// The most closest-hit rays (camera, reflection, refraction) one camera sample
-// can trace when each hit spawns at most `branches` of them (1 for mirrors, 2
-// at glass: a reflection and a refraction). At depth d there are at most
-// branches^d, and fewer than 1 / min_contribution with a path weight above it
-// when the weights of the rays a hit spawns add up to at most 1 (whitted.cpp)
-// and materials are grey.
-inline double closest_rays_bound(uint32_t max_depth, float min_contribution, uint32_t branches) {
-    double bound = 0.0, rays_at_depth = 1.0;
-    for (uint32_t d = 0; d <= max_depth; ++d, rays_at_depth *= branches) {
-        const double above_cutoff =
-            min_contribution > 0.0f ? std::ceil(1.0 / min_contribution) - 1.0 : rays_at_depth;
-        bound += std::min(rays_at_depth, above_cutoff);
-    }
-    return bound;
-}
-
 // The most rays of each kind a pixel traced per camera sample (with one sample
 // per pixel, the most one camera ray's tree held), and the time for all pixels.
 struct DepthRun {

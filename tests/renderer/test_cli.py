@@ -247,3 +247,14 @@ def test_bloom_moves_light_in_the_exr_and_changes_the_png(rtrender, scenes_dir, 
     assert result.returncode == 0, result.stderr
     np.testing.assert_array_equal(np.asarray(Image.open(shown)),
                                   rtcore.encode_srgb8(bloomed, '{"exposure": -1, "toneMap": "REINHARD"}')[..., :3])
+
+
+def test_settings_under_which_glass_would_never_finish_exit_2(rtrender, tmp_path):
+    (tmp_path / "glass.mtl").write_text("newmtl glass\nKd 0 0 0\nNi 1.5\nd 0.1\nillum 7\n")
+    scene = tmp_path / "pane.obj"
+    scene.write_text("mtllib glass.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl glass\nf 1 2 3\n")
+    common = ("-o", tmp_path / "pane.png", "--width", 8, "--height", 8, "--max-depth", 64)
+    result = run(rtrender, scene, *common, "--min-contribution", 0)
+    assert result.returncode == 2, result.stderr
+    assert "settings.maxDepth: 64 with settings.minContribution 0 lets one camera ray split" in result.stderr
+    assert run(rtrender, scene, *common).returncode == 0

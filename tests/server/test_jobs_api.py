@@ -3,6 +3,7 @@
 import io
 import json
 import time
+import zipfile
 
 import numpy as np
 import pytest
@@ -216,3 +217,23 @@ def test_settings_the_renderer_refuses_are_refused_before_queueing(client, corne
     response = client.post("/api/jobs", json={"scene_id": cornell_id, "settings": {
         "pixel_filter": "GRID", "samples_per_pixel": 5}})
     assert response.status_code == 422 and "GRID takes a square number" in response.json()["detail"]
+
+
+def test_settings_under_which_glass_would_never_finish_are_refused(client):
+    # A glass pane (MTL dissolve 0.1: transmission 0.9) splits every ray it meets in two.
+    obj = b"mtllib glass.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl glass\nf 1 2 3\n"
+    mtl = b"newmtl glass\nKd 0 0 0\nNi 1.5\nd 0.1\nillum 7\n"
+    out = io.BytesIO()
+    with zipfile.ZipFile(out, "w") as z:
+        z.writestr("pane.obj", obj)
+        z.writestr("glass.mtl", mtl)
+    scene = client.post("/api/scenes", files={"file": ("pane.zip", out.getvalue())})
+    assert scene.status_code == 201, scene.text
+    response = client.post("/api/jobs", json={"scene_id": scene.json()["id"], "settings": {
+        "width": 8, "height": 8, "max_depth": 64, "min_contribution": 0}})
+    assert response.status_code == 422
+    detail = response.json()["detail"]
+    assert "settings.maxDepth: 64 with settings.minContribution 0" in detail and "lower maxDepth" in detail
+    ok = client.post("/api/jobs", json={"scene_id": scene.json()["id"], "settings": {
+        "width": 8, "height": 8, "max_depth": 64}})
+    assert ok.status_code == 202, ok.text
