@@ -21,7 +21,7 @@ log = logging.getLogger("rt.cluster")
 
 # The embedded cluster shares the server's event loop and cores with the API,
 # so the upkeep Dask does by default for a cluster of its own is turned down or
-# off: it cost 3.6% of a core with nothing to render (0.7% without). One worker
+# off: it cost 3.6% of a core with nothing to render (0.8% without). One worker
 # has nobody to steal tasks from; a worker inside the server must not pause,
 # spill or be terminated for the server's memory (the scene cache evicts scenes
 # instead); the sampling profiler and the system monitor feed a dashboard the
