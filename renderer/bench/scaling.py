@@ -255,7 +255,7 @@ def main() -> int:
               f"{r['build_ms']:8.1f} ms (all)  render {r['render_ms']:8.1f} ms  {r['nodes_per_ray']:6.1f} nodes/ray",
               flush=True)
     summary = ("Measured by renderer/bench/scaling.py through rtcore and rtrender; times are wall clock, the "
-               "median of 3 after a warm-up.")
+               "median of 3 after a warm-up (of 5 for the Dask runs, the noisiest).")
     charts = [triangles_chart(rows, size, machine, args.out)]
     print(charts[-1].headline, flush=True)
     charts.append(seed_chart(args.rtrender, args.scenes, args.work, machine, args.out,
@@ -263,7 +263,7 @@ def main() -> int:
     print(charts[-1].headline, flush=True)
     cluster_size = 128 if args.quick else args.cluster_size
     throughput = scaling_cluster.measure(args.scenes / ("dragon_3.glb" if args.quick else "dragon_1.glb"),
-                                         size=cluster_size, repeats=1 if args.quick else 3)
+                                         size=cluster_size, repeats=1 if args.quick else 5)
     charts.append(throughput_chart(throughput, machine, args.out))
     print(charts[-1].headline, flush=True)
     model = (" " + (scaling_cluster.__doc__ or "").split("\n\n", 1)[1].replace("\n", " ").replace("  ", " ")
