@@ -58,7 +58,7 @@ def put_section(out: Path, section: charts_pb2.ChartSection) -> None:
     (out / "README.md").write_text(readme(index))
 
 
-def _markdown_table(t: charts_pb2.ChartTable) -> list[str]:
+def markdown_table(t: charts_pb2.ChartTable) -> list[str]:
     def row(cells) -> str:
         return "| " + " | ".join(c.replace("|", "\\|") for c in cells) + " |"
     return [row(t.columns), row(["---"] * len(t.columns)), *(row(r.cells) for r in t.rows)]
@@ -77,6 +77,6 @@ def readme(index: charts_pb2.ChartIndex) -> str:
             if c.headline:
                 lines += [f"**{c.headline}**", ""]
             if c.table.columns:
-                lines += _markdown_table(c.table) + [""]
+                lines += markdown_table(c.table) + [""]
             lines += [f"[CSV]({c.slug}.csv) · [every point]({c.slug}.md)", ""]
     return "\n".join(lines)

@@ -223,10 +223,9 @@ def write_pages(chart: charts_pb2.Chart, summary: str, machine: dict, out: Path,
         writer.writerow(list(chart.table.columns) + ["cpu", "cores", "commit", "date"])
         for row in chart.table.rows:
             writer.writerow(list(row.cells) + [machine[k] for k in ("cpu", "cores", "commit", "date")])
-    header = "| " + " | ".join(chart.table.columns) + " |"
     lines = [f"# {chart.title}", "", f"![{chart.title}]({chart.slug}.png)", "", f"**{chart.headline}**.", "",
-             summary + extra, "", f"Machine: {chart_index.machine_line(machine)}.", "", header,
-             "|" + " --- |" * len(chart.table.columns)] + ["| " + " | ".join(r.cells) + " |" for r in chart.table.rows]
+             summary + extra, "", f"Machine: {chart_index.machine_line(machine)}.", "",
+             *chart_index.markdown_table(chart.table)]
     (out / f"{chart.slug}.md").write_text("\n".join(lines) + "\n")
 
 

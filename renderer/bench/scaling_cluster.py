@@ -85,11 +85,6 @@ def _median_time(run, repeats: int) -> float:
     return statistics.median(times)
 
 
-def _grid(size: int, side: int) -> list[tuple[int, int, int, int]]:
-    return [(x, y, min(side, size - x), min(side, size - y)) for y in range(0, size, side)
-            for x in range(0, size, side)]
-
-
 def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
     # Workers are separate processes: they find the service's task module and rtcore the way
     # `dask worker` processes of the cluster topology do, through PYTHONPATH.
@@ -99,7 +94,7 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
     from distributed import Client, LocalCluster, wait
     from rt import job_pb2, render_pb2
 
-    from app.services.tile_plan import full_tile_size
+    from app.services.tile_plan import plan_passes
     from app.services.tile_tasks import render_tile
 
     scene = rtcore.Scene.load(str(scene_path))
@@ -124,7 +119,8 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
 
     workers = {}
     for n in (1, 2):
-        rects = _grid(size, full_tile_size(size, size, n))
+        # The service's full-resolution pass for n threads, in its centre-out order.
+        rects = [(t.x, t.y, t.w, t.h) for t in plan_passes(size, size, n, interactive=False)[-1]]
         with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
                 Client(cluster) as client:
             workers[n] = _median_time(lambda: run_image(client, rects), repeats)

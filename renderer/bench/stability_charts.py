@@ -183,8 +183,8 @@ def write_pages(chart: charts_pb2.Chart, csv_sources: list[Path], summary: str, 
              summary, "", f"Machine: {chart_index.machine_line(machine)}.", ""]
     for source in csv_sources:
         rows = read_csv(source)
-        lines += [f"## {source.stem.replace('_', ' ')}", "", "| " + " | ".join(rows[0]) + " |",
-                  "|" + " --- |" * len(rows[0])] + ["| " + " | ".join(r.values()) + " |" for r in rows] + [""]
+        table = chart_index.table(list(rows[0]), [list(r.values()) for r in rows])
+        lines += [f"## {source.stem.replace('_', ' ')}", "", *chart_index.markdown_table(table), ""]
     (out / f"{chart.slug}.md").write_text("\n".join(lines))
 
 
