@@ -17,9 +17,7 @@ from __future__ import annotations
 
 import argparse
 import csv
-import statistics
 import sys
-import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -50,16 +48,10 @@ def measure_scene(path: Path, size: int) -> dict:
     stats = scene.bvh_stats
     camera = scene.default_camera
     settings = render_pb2.RenderSettings(width=size, height=size).SerializeToString()
-    scene.render(camera, settings, 0, 32)
-    times = []
-    for _ in range(3):
-        start = time.perf_counter()
-        scene.render(camera, settings, 0, 32)
-        times.append(time.perf_counter() - start)
+    render_s = scaling_cluster.median_time(lambda: scene.render(camera, settings, 0, 32), 3)
     cost = scene.render_tile(camera, settings, 0, 0, size, size, aux=["bvh_cost"])
     layer = np.asarray(cost["bvh_cost"], dtype=np.float64)
     rays = int(cost["rays"])
-    render_s = statistics.median(times)
     return {"scene": path.name, "triangles": stats["triangles"], "nodes": stats["nodes"], "depth": stats["depth"],
             "build_ms_1": one, "build_ms": stats["build_ms"], "render_ms": 1000 * render_s,
             "mrays_s": rays / render_s / 1e6, "rays": rays, "nodes_per_ray": layer[..., 0].sum() / rays,

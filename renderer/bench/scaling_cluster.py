@@ -75,7 +75,8 @@ def _noop_tile(nbytes: int) -> bytes:
     return bytes(nbytes)
 
 
-def _median_time(run, repeats: int) -> float:
+def median_time(run, repeats: int) -> float:
+    """Median wall seconds of `repeats` calls of `run` after one to warm up."""
     run()  # warm-up: scene loads, worker imports
     times = []
     for _ in range(repeats):
@@ -102,7 +103,7 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
     settings = render_pb2.RenderSettings(width=size, height=size)
     request = job_pb2.JobRequest(scene_id="bench", camera=render_pb2.Camera.FromString(camera),
                                  settings=settings).SerializeToString()
-    threads = {n: _median_time(lambda n=n: scene.render(camera, settings.SerializeToString(), n, 32), repeats)
+    threads = {n: median_time(lambda n=n: scene.render(camera, settings.SerializeToString(), n, 32), repeats)
                for n in (1, 2)}
     scene_key = f"scaling-{scene_path.name}"
 
@@ -114,7 +115,7 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
 
     def serial_per_task(client, side: int, count: int) -> float:
         payload = side * side * RESULT_BYTES_PER_PIXEL
-        return _median_time(lambda: client.gather(
+        return median_time(lambda: client.gather(
             [client.submit(_noop_tile, payload, pure=False) for _ in range(count)]), repeats) / count
 
     workers = {}
@@ -123,11 +124,11 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
         rects = [(t.x, t.y, t.w, t.h) for t in plan_passes(size, size, n, interactive=False)[-1]]
         with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
                 Client(cluster) as client:
-            workers[n] = _median_time(lambda: run_image(client, rects), repeats)
+            workers[n] = median_time(lambda: run_image(client, rects), repeats)
             if n == 1:
                 rendered = sum(r["seconds"] for r in run_image(client, rects))
                 pixel_s = rendered / (size * size)
-                latency = _median_time(lambda: run_image(client, [(0, 0, 1, 1)]), repeats)
+                latency = median_time(lambda: run_image(client, [(0, 0, 1, 1)]), repeats)
                 overhead = max(0.0, (workers[1] - rendered - latency) / len(rects))
             else:
                 small, large = serial_per_task(client, 32, 256), serial_per_task(client, 256, 32)
