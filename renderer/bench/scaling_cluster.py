@@ -95,7 +95,8 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
     from distributed import Client, LocalCluster, wait
     from rt import job_pb2, render_pb2
 
-    from app.services.tile_plan import plan_passes
+    from app.services.cluster import RenderWorkerSetup
+    from app.services.tile_plan import TileSpec, plan_passes
     from app.services.tile_tasks import render_tile
 
     scene = rtcore.Scene.load(str(scene_path))
@@ -107,9 +108,9 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
                for n in (1, 2)}
     scene_key = f"scaling-{scene_path.name}"
 
-    def run_image(client, rects) -> list[dict]:
-        futures = [client.submit(render_tile, scene_key, str(scene_path), request, *r, 1, pure=False)
-                   for r in rects]
+    def run_image(client, tiles) -> list[dict]:
+        futures = [client.submit(render_tile, scene_key, str(scene_path), request, "bench", t, pure=False)
+                   for t in tiles]
         wait(futures)
         return client.gather(futures)
 
@@ -121,15 +122,16 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
     workers = {}
     for n in (1, 2):
         # The service's full-resolution pass for n threads, in its centre-out order.
-        rects = [(t.x, t.y, t.w, t.h) for t in plan_passes(size, size, n, interactive=False)[-1]]
+        tiles = plan_passes(size, size, n, interactive=False)[-1]
         with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
                 Client(cluster) as client:
-            workers[n] = median_time(lambda: run_image(client, rects), repeats)
+            client.register_plugin(RenderWorkerSetup())  # as the service does: one render thread per Dask thread
+            workers[n] = median_time(lambda: run_image(client, tiles), repeats)
             if n == 1:
-                rendered = sum(r["seconds"] for r in run_image(client, rects))
+                rendered = sum(r["seconds"] for r in run_image(client, tiles))
                 pixel_s = rendered / (size * size)
-                latency = median_time(lambda: run_image(client, [(0, 0, 1, 1)]), repeats)
-                overhead = max(0.0, (workers[1] - rendered - latency) / len(rects))
+                latency = median_time(lambda: run_image(client, [TileSpec(0, 0, 0, 1, 1, 1, 0)]), repeats)
+                overhead = max(0.0, (workers[1] - rendered - latency) / len(tiles))
             else:
                 small, large = serial_per_task(client, 32, 256), serial_per_task(client, 256, 32)
                 per_byte = max(0.0, (large - small) / ((256 * 256 - 32 * 32) * RESULT_BYTES_PER_PIXEL))

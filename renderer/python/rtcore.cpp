@@ -19,6 +19,7 @@
 #include "rt/job.pb.h"
 #include "rtcore_image.h"
 #include "rtcore_scene.h"
+#include "thread_pool.h"
 
 namespace nb = nanobind;
 using namespace nb::literals;
@@ -59,6 +60,11 @@ NB_MODULE(rtcore, m) {
           "Parses the JSON form of an rt message (e.g. 'rt.JobRequest'), fills the schema's defaults and "
           "checks its limits: the serialized message, or ValueError naming the field.");
     rtcore::bind_images(m);
+    m.def("set_render_threads", &rt::set_render_threads, "threads"_a,
+          "Sizes the pool of threads Scene.render_tile renders on (0: all cores); renders already running "
+          "finish on the old pool.");
+    m.def("render_threads", [] { return rt::render_pool()->size(); },
+          "The number of threads Scene.render_tile renders on.");
 
     nb::class_<PyScene>(m, "Scene")
         .def_static("load", &PyScene::load, "path"_a, "threads"_a = 0,
@@ -80,7 +86,9 @@ NB_MODULE(rtcore, m) {
              "Raises ValueError naming what the renderer refuses in the camera or settings; renders nothing.")
         .def("render_tile", &PyScene::render_tile, "camera"_a, "settings"_a, "x"_a, "y"_a, "width"_a, "height"_a,
              nb::kw_only(), "aux"_a = nb::none(), "scale"_a = 1,
-             "Renders one tile on the calling thread (GIL released): float32 array (height, width, 3), linear RGB.\n\n"
+             "Renders one tile on the render pool's threads (set_render_threads), the GIL released: float32 array "
+             "(height, width, 3), linear RGB. Tiles rendered at once from several threads share the pool, the "
+             "oldest first.\n\n"
              "scale=s > 1 renders a preview: each s x s block's top-left pixel, exactly as the full render "
              "computes it, so the arrays are ceil(height/s) x ceil(width/s).\n"
              "aux=[...] (names 'depth', 'normal', 'albedo', 'bvh_cost' or rt.AuxOutput values) returns a dict "

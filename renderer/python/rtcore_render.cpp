@@ -8,6 +8,7 @@
 #include "render.h"
 #include "rtcore_convert.h"
 #include "rtcore_scene.h"
+#include "thread_pool.h"
 
 namespace rtcore {
 namespace {
@@ -39,12 +40,16 @@ nb::object PyScene::render_tile(nb::handle camera, nb::handle settings, uint32_t
     renderer.check_tile(tile, scale);
     const std::vector<rt::AuxOutput> outputs = aux.is_none() ? std::vector<rt::AuxOutput>{} : read_aux(aux);
     const size_t w = rt::preview_extent(width, scale), h = rt::preview_extent(height, scale);
-    std::vector<float> rgb(w * h * 3);
-    rt::AuxImage layers(uint32_t(w), uint32_t(h), outputs);
+    std::vector<float> rgb;
+    rt::AuxImage layers;
     rt::RenderStats stats;
     {
+        // Even allocating the buffers (first touches of fresh pages) is work
+        // the server's event loop must not wait for.
         nb::gil_scoped_release release;
-        stats = renderer.render_tile(tile, rgb.data(), layers.layers(), scale);
+        rgb.resize(w * h * 3);
+        layers = rt::AuxImage(uint32_t(w), uint32_t(h), outputs);
+        stats = renderer.render_tile(*rt::render_pool(), tile, rgb.data(), layers.layers(), scale);
     }
     auto color = to_numpy(std::move(rgb), {h, w, 3});
     if (aux.is_none()) return nb::cast(color);

@@ -97,6 +97,24 @@ RenderStats Renderer::render_tile(const TileRect& tile, float* rgb, const AuxLay
     return render_pixels(tile, scale, rgb, aux, preview_extent(tile.width, scale));
 }
 
+RenderStats Renderer::render_tile(ThreadPool& pool, const TileRect& tile, float* rgb, const AuxLayers& aux,
+                                  uint32_t scale) const {
+    check_tile(tile, scale);
+    const uint32_t rows = preview_extent(tile.height, scale), columns = preview_extent(tile.width, scale);
+    const uint32_t bands = (rows + kCacheBlock - 1) / kCacheBlock;
+    std::vector<RenderStats> band_stats(bands);
+    pool.parallel_for(bands, [&](size_t band) {
+        const uint32_t first_row = uint32_t(band) * kCacheBlock;
+        const TileRect rect{tile.x, tile.y + first_row * scale, tile.width,
+                            std::min(tile.height - first_row * scale, kCacheBlock * scale)};
+        const size_t first = size_t(first_row) * columns;
+        band_stats[band] = render_pixels(rect, scale, rgb + first * 3, aux.from(first), columns);
+    });
+    RenderStats stats;
+    for (const RenderStats& s : band_stats) stats += s;
+    return stats;
+}
+
 RenderStats Renderer::render_pixels(const TileRect& tile, uint32_t scale, float* rgb, const AuxLayers& aux,
                                     size_t row_pixels) const {
     RenderStats stats;

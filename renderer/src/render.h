@@ -22,6 +22,7 @@
 #include "pixel_estimate.h"
 #include "rt/debug.pb.h"
 #include "rt/render.pb.h"
+#include "thread_pool.h"
 #include "whitted.h"
 
 namespace rt {
@@ -66,6 +67,11 @@ class Renderer {
     // exactly as the full-resolution render computes it, ceil(width / s) by
     // ceil(height / s) pixels in all (preview_extent). Throws as check_tile does.
     RenderStats render_tile(const TileRect& tile, float* rgb, const AuxLayers& aux = {}, uint32_t scale = 1) const;
+
+    // The same on every thread of `pool`, in bands of kCacheBlock rows taken
+    // first come, first served with whatever else the pool is rendering.
+    RenderStats render_tile(ThreadPool& pool, const TileRect& tile, float* rgb, const AuxLayers& aux = {},
+                            uint32_t scale = 1) const;
 
     // The whole image on `threads` threads (0: all cores) in square tiles, and
     // the layers `aux` holds, when given (it must have the image's size).

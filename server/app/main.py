@@ -12,10 +12,11 @@ from fastapi.openapi.utils import get_openapi
 from fastapi.responses import FileResponse, JSONResponse
 from fastapi.staticfiles import StaticFiles
 
+from .api.guards import RequestGuards
 from .api.routes import health, jobs, scenes
+from .core.allocator import keep_freed_memory
 from .core.config import Settings, load_settings
 from .core.proto import openapi_components
-from .core.security import is_authorized
 from .services.cluster import RenderCluster
 from .services.job_store import JobStore
 from .services.jobs import JobManager
@@ -30,6 +31,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     @asynccontextmanager
     async def lifespan(app: FastAPI):
         settings.data_dir.mkdir(parents=True, exist_ok=True)
+        keep_freed_memory()
         app.state.settings = settings
         app.state.scenes = SceneStore(settings)
         if settings.samples_dir and settings.samples_dir.is_dir():
@@ -48,22 +50,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     for router in (health.router, scenes.router, jobs.router):
         app.include_router(router)
 
-    @app.middleware("http")
-    async def require_token(request: Request, call_next):
-        if request.url.path.startswith("/api/") and not is_authorized(request, settings.api_token):
-            return JSONResponse({"detail": "this server needs an API token: send 'Authorization: Bearer <token>'"},
-                                status_code=401, headers={"WWW-Authenticate": "Bearer"})
-        return await call_next(request)
-
-    @app.middleware("http")
-    async def refuse_oversized_uploads(request: Request, call_next):
-        # The multipart parser would spool the whole body before the route can count it.
-        length = request.headers.get("content-length")
-        if request.method == "POST" and request.url.path == "/api/scenes" and length and length.isdigit() \
-                and int(length) > settings.max_upload_bytes + (1 << 20):
-            return JSONResponse({"detail": f"upload of {int(length)} bytes is over this server's limit of "
-                                           f"{settings.max_upload_bytes} bytes"}, status_code=413)
-        return await call_next(request)
+    app.add_middleware(RequestGuards, settings=settings)
 
     @app.exception_handler(RequestValidationError)
     async def validation_error(request: Request, exc: RequestValidationError):

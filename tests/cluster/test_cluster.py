@@ -107,7 +107,8 @@ def test_a_killed_worker_costs_only_its_tiles(service, scenes_dir):
     topology, client = service
     with open(scenes_dir / "dragon_3.glb", "rb") as f:
         scene = client.post("/api/scenes", files={"file": ("dragon_3.glb", f)}).json()
-    settings = {"width": 640, "height": 480, "max_depth": 3, "light_samples": 4}
+    # Heavy enough (about 2 s on 2 cores) that the kill lands mid-job.
+    settings = {"width": 640, "height": 480, "max_depth": 3, "light_samples": 4, "samples_per_pixel": 4}
     job = client.post("/api/jobs", json={"scene_id": scene["id"], "settings": settings}).json()
     wait_until(lambda: client.get(f"/api/jobs/{job['id']}").json()["tiles_done"] >= 3, 60, "the first tiles")
     victim = topology.workers[0]
@@ -122,8 +123,20 @@ def test_a_killed_worker_costs_only_its_tiles(service, scenes_dir):
     assert client.get("/api/health").json()["workers"] == 1
     png = np.asarray(Image.open(io.BytesIO(client.get(f"/api/jobs/{job['id']}/image.png").content)).convert("RGBA"))
     reference = expected_png(scenes_dir / "dragon_3.glb", done["request"]["camera"],
-                             render_pb2.RenderSettings(width=640, height=480, max_depth=3, light_samples=4))
+                             render_pb2.RenderSettings(width=640, height=480, max_depth=3, light_samples=4,
+                                                       samples_per_pixel=4))
     assert np.array_equal(png, reference)
+
+
+def test_each_worker_renders_on_as_many_threads_as_it_has(service):
+    """The server's RenderWorkerSetup plugin reached the worker processes: a
+    `dask worker --nthreads 1` renders its tiles on one thread, not on all cores."""
+    from distributed import Client
+
+    topology, _ = service
+    with Client(topology.env["RT_SCHEDULER"], timeout="20s") as dask_client:
+        threads = dask_client.run(lambda: __import__("rtcore").render_threads())
+    assert threads and set(threads.values()) == {1}, threads
 
 
 def test_the_compose_file_describes_the_same_topology():

@@ -1,5 +1,6 @@
 """The rtcore module: loading, tiles, batch ray queries, debugger exports."""
 import json
+import os
 import re
 import subprocess
 import threading
@@ -142,6 +143,21 @@ def test_messages_quoting_bytes_that_are_not_utf8_stay_readable(tmp_path):
     with pytest.raises(ValueError, match="invalid JSON") as error:
         rtcore.Scene.from_bytes(b'{"asset": "' + b"A" * 100000 + b'\xff"}', "y.gltf")
     assert len(str(error.value)) < 1000
+
+
+def test_tiles_render_alike_on_any_number_of_render_threads(cornell):
+    camera = cornell.default_camera
+    try:
+        images = []
+        for threads in (1, 3):
+            rtcore.set_render_threads(threads)
+            assert rtcore.render_threads() == threads
+            images.append(cornell.render_tile(camera, settings(), 2, 3, 44, 31, aux=["depth", "bvh_cost"]))
+        for name in ("color", "depth", "bvh_cost", "rays", "samples"):
+            np.testing.assert_array_equal(images[0][name], images[1][name])
+    finally:
+        rtcore.set_render_threads(0)
+    assert rtcore.render_threads() == (os.cpu_count() or 1)
 
 
 def test_tiles_render_concurrently_from_threads(cornell):

@@ -12,6 +12,16 @@ def test_the_embedded_cluster_does_no_upkeep_it_does_not_need(client):
     assert worker.memory_manager.memory_pause_fraction is False
 
 
+def test_tiles_render_on_as_many_threads_as_the_worker_has(client):
+    """RenderWorkerSetup sizes rtcore's render pool to the worker, and keeps freed memory for reuse."""
+    import numpy as np
+    import rtcore
+
+    (worker,) = client.app.state.cluster._local.workers.values()
+    assert rtcore.render_threads() == worker.state.nthreads
+    assert not np._core.multiarray._get_madvise_hugepage()
+
+
 def test_the_rest_of_the_process_keeps_dask_defaults(client):
     import dask
 

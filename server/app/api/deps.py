@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from typing import Any
-
 from fastapi import HTTPException, Request
 from fastapi.responses import JSONResponse
 from google.protobuf.message import Message
@@ -13,11 +11,13 @@ from ..services.jobs import JobManager
 from ..services.scene_store import SceneStore, StoredScene
 
 
-def scenes(request: Request) -> SceneStore:
+# Dependencies are coroutines: FastAPI runs a plain function in its thread pool,
+# a hand-off that cost more than the request itself.
+async def scenes(request: Request) -> SceneStore:
     return request.app.state.scenes
 
 
-def jobs(request: Request) -> JobManager:
+async def jobs(request: Request) -> JobManager:
     return request.app.state.jobs
 
 
@@ -30,8 +30,3 @@ def scene_or_404(store: SceneStore, scene_id: str) -> StoredScene:
 
 def proto_json(message: Message, status_code: int = 200, headers: dict[str, str] | None = None) -> JSONResponse:
     return JSONResponse(to_dict(message), status_code=status_code, headers=headers)
-
-
-def error(status: int, message: str) -> JSONResponse:
-    body: dict[str, Any] = {"detail": message}
-    return JSONResponse(body, status_code=status)

@@ -11,10 +11,14 @@ folder.
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
 
 import dask
-from distributed import Client, LocalCluster
+import rtcore
+from dask.highlevelgraph import HighLevelGraph, MaterializedLayer
+from distributed import Client, Future, LocalCluster, WorkerPlugin
 
+from ..core.allocator import keep_freed_memory
 from ..core.config import Settings
 
 log = logging.getLogger("rt.cluster")
@@ -38,6 +42,19 @@ EMBEDDED_DASK_CONFIG = {
 }
 
 
+class RenderWorkerSetup(WorkerPlugin):
+    """Runs in every worker as it joins, the embedded one included: the
+    allocator keeps freed memory (core/allocator.py), and tiles render on a
+    pool of as many threads as the worker has (rtcore.set_render_threads), so
+    the worker's cores stay busy while its event loop hands out the next tile."""
+
+    name = "rt-render-setup"
+
+    def setup(self, worker) -> None:
+        keep_freed_memory()
+        rtcore.set_render_threads(worker.state.nthreads)
+
+
 class RenderCluster:
     def __init__(self, client: Client, local: LocalCluster | None):
         self.client = client
@@ -47,6 +64,7 @@ class RenderCluster:
     async def start(cls, settings: Settings) -> "RenderCluster":
         if settings.scheduler:
             client = await Client(settings.scheduler, asynchronous=True, timeout="20s")
+            await client.register_plugin(RenderWorkerSetup())
             log.info("joined the Dask scheduler at %s", settings.scheduler)
             return cls(client, None)
         # Read as the scheduler and worker start, so the rest of the process keeps Dask's defaults.
@@ -55,8 +73,19 @@ class RenderCluster:
                                        asynchronous=True, dashboard_address=None,
                                        scheduler_kwargs={"dashboard": False})
         client = await Client(local, asynchronous=True)
+        await client.register_plugin(RenderWorkerSetup())
         log.info("embedded Dask cluster with %d threads", settings.embedded_threads)
         return cls(client, local)
+
+    def submit(self, name: str, tasks: dict[str, tuple[Callable, ...]], priorities: dict[str, int]) -> list[Future]:
+        """Futures of `tasks` ({key: (function, *arguments)}), sent to the
+        scheduler as one graph: one message and one update for a job's tiles
+        instead of one each (a third of Dask's cost per tile). Higher priority
+        runs first; between equal priorities, the graph sent earlier."""
+        layer = MaterializedLayer(tasks, annotations={"priority": priorities.__getitem__})
+        graph = HighLevelGraph({name: layer}, {name: set()})
+        # fifo_timeout 0: every graph is a generation of its own, older first.
+        return self.client.get(graph, list(tasks), sync=False, fifo_timeout="0ms")
 
     @property
     def embedded(self) -> bool:

@@ -68,7 +68,7 @@ class JobManager:
         found = self._tiles.get(event[1])
         if found is not None:  # not when the tile's result came first
             running, spec = found
-            await running.stream.publish(job_pb2.TileStreamMessage(started=spec.region()))
+            await running.stream.publish(job_pb2.TileStreamMessage(started=spec.region()).SerializeToString())
 
     # --- requests -----------------------------------------------------------
 
@@ -192,15 +192,16 @@ class JobManager:
         image = JobImage(request.settings.width, request.settings.height, aux_names(request))
         request_bytes = request.SerializeToString()
         run = secrets.token_hex(3)
+        args = (running.scene.sha256, str(running.scene.scene_file), request_bytes, job.id)
         futures: dict[str, TileSpec] = {}
-        submitted = []
+        tasks, priorities = {}, {}
         for spec in specs:
-            future = client.submit(render_tile, running.scene.sha256, str(running.scene.scene_file), request_bytes,
-                                   spec.x, spec.y, spec.w, spec.h, spec.scale, priority=spec.priority, pure=False,
-                                   key=f"tile-{job.id}-{run}-{spec.pass_index}-{spec.x}-{spec.y}")
-            futures[future.key] = spec
-            self._tiles[future.key] = (running, spec)
-            submitted.append(future)
+            key = f"tile-{job.id}-{run}-{spec.pass_index}-{spec.x}-{spec.y}"
+            tasks[key] = (render_tile, *args, spec)
+            priorities[key] = spec.priority
+            futures[key] = spec
+            self._tiles[key] = (running, spec)
+        submitted = self._cluster.submit(f"job-{job.id}-{run}", tasks, priorities)
         samples_done = 0
         camera_samples = pixels_done = 0  # of the full-resolution pass
         last_saved = 0.0
@@ -214,8 +215,7 @@ class JobManager:
                     job.state = job_pb2.RUNNING
                     job.started_at = result["started"]
                 image.add(spec, result["layers"])
-                tile = job_pb2.Tile(job=job.id, region=spec.region(), scale=spec.scale, pixels=result["rgba"])
-                await running.stream.publish(job_pb2.TileStreamMessage(tile=tile))
+                await running.stream.publish(result["message"])
                 job.tiles_done += 1
                 samples_done += spec.samples
                 job.progress = samples_done / total_samples
@@ -261,7 +261,7 @@ class JobManager:
         rgba = await asyncio.to_thread(image.bloom, job.request.settings.SerializeToString())
         region = job_pb2.TileRegion(**{"pass": pass_index}, x=0, y=0, w=image.width, h=image.height)
         tile = job_pb2.Tile(job=job.id, region=region, scale=1, pixels=rgba)
-        await running.stream.publish(job_pb2.TileStreamMessage(tile=tile))
+        await running.stream.publish(job_pb2.TileStreamMessage(tile=tile).SerializeToString())
         job.tiles_done += 1
 
 

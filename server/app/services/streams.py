@@ -24,8 +24,9 @@ class TileStream:
     def finished(self) -> bool:
         return self._end is not None
 
-    async def publish(self, message: job_pb2.TileStreamMessage) -> None:
-        self._messages.append(message.SerializeToString())
+    async def publish(self, message: bytes) -> None:
+        """Appends a serialized rt.TileStreamMessage."""
+        self._messages.append(message)
         async with self._changed:
             self._changed.notify_all()
 

@@ -16,7 +16,7 @@ from rt import job_pb2
 
 PREVIEW_SCALE = 8
 PREVIEW_MIN_PIXELS = 256 * 256   # smaller images are fast enough without a preview
-PREVIEW_TILE = 512
+PREVIEW_TILE = 1024              # 128 x 128 samples a task: one for a 1024 x 1024 image
 TILE_SIZES = (256, 128, 64, 32, 16)
 TILES_PER_THREAD = 4             # enough tasks to balance the load on every thread
 

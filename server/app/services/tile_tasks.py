@@ -1,9 +1,9 @@
 """What a Dask worker runs: one tile of one job.
 
 Workers import this module by name, so it stays small and depends only on
-rtcore and the scene cache. The arguments are plain values (the scene's path
-and content hash, the serialized request) so that any worker that sees the
-shared data folder can run any tile.
+rtcore, the scene cache and the tile plan. The arguments are plain values (the
+scene's path and content hash, the serialized request, the tile) so that any
+worker that sees the shared data folder can run any tile.
 """
 
 from __future__ import annotations
@@ -17,6 +17,7 @@ from distributed import get_worker
 from rt import job_pb2
 
 from .scene_cache import get_scene
+from .tile_plan import TileSpec
 
 
 def aux_names(request: job_pb2.JobRequest) -> list[str]:
@@ -28,13 +29,13 @@ def aux_names(request: job_pb2.JobRequest) -> list[str]:
 TILE_STARTED_TOPIC = "rt-tile-started"
 
 
-def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, x: int, y: int, w: int, h: int,
-                scale: int) -> dict[str, Any]:
+def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, job_id: str, spec: TileSpec) -> dict[str, Any]:
     """Renders one tile: its layers as arrays of ceil(h/scale) x ceil(w/scale)
-    pixels, its colour as the stream's RGBA8 pixels through the job's exposure
-    and tone map (encoded here, so the server's event loop only forwards them),
-    the rays traced and camera samples taken, and when the worker started and
-    how long it took."""
+    pixels; the tile as the stream sends it to viewers (a serialized
+    rt.TileStreamMessage, its RGBA8 pixels through the job's exposure and tone
+    map), made here so that the server's event loop only forwards it; the rays
+    traced and camera samples taken; and when the worker started and how long
+    it took."""
     started = time.time()
     worker = get_worker()
     worker.log_event(TILE_STARTED_TOPIC, worker.get_current_task())
@@ -43,13 +44,16 @@ def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, x: int, 
     camera = request.camera.SerializeToString()
     settings = request.settings.SerializeToString()
     # With aux given (even empty) rtcore answers a dict that also counts the rays.
-    layers = scene.render_tile(camera, settings, x, y, w, h, scale=scale, aux=aux_names(request))
+    layers = scene.render_tile(camera, settings, spec.x, spec.y, spec.w, spec.h, scale=spec.scale,
+                               aux=aux_names(request))
     rays = int(layers.pop("rays"))
     samples = int(layers.pop("samples"))
     layers = {name: np.asarray(array) for name, array in layers.items()}
+    tile = job_pb2.Tile(job=job_id, region=spec.region(), scale=spec.scale,
+                        pixels=rtcore.encode_srgb8(layers["color"], settings).tobytes())
     return {
         "layers": layers,
-        "rgba": rtcore.encode_srgb8(layers["color"], settings).tobytes(),
+        "message": job_pb2.TileStreamMessage(tile=tile).SerializeToString(),
         "rays": rays,
         "samples": samples,
         "started": started,

@@ -58,7 +58,7 @@ def bvh_cost_legend():
 
 
 @router.get("/{job_id}", responses={200: json_response(job_pb2.Job, "The job")})
-def get_job(job_id: str, manager: JobManager = Depends(jobs)):
+async def get_job(job_id: str, manager: JobManager = Depends(jobs)):
     return proto_json(job_or_404(manager, job_id))
 
 
@@ -66,17 +66,6 @@ def get_job(job_id: str, manager: JobManager = Depends(jobs)):
 async def cancel_job(job_id: str, manager: JobManager = Depends(jobs)):
     job_or_404(manager, job_id)
     return proto_json(await manager.cancel(job_id))
-
-
-def _done_job(manager: JobManager, job_id: str) -> None:
-    job = job_or_404(manager, job_id)
-    if job.state != job_pb2.DONE:
-        raise HTTPException(409, f"job '{job_id}' is {job_pb2.JobState.Name(job.state).lower()}: "
-                                 "its image exists once it is done")
-
-
-def _missing_output(job_id: str, name: str) -> HTTPException:
-    return HTTPException(404, f"job '{job_id}' has no {name} output (ask for it in the request's outputs)")
 
 
 async def _output(manager: JobManager, job_id: str, filename: str):

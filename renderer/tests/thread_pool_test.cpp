@@ -1,0 +1,100 @@
+#include "thread_pool.h"
+
+#include <atomic>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "accel.h"
+#include "render.h"
+#include "test_scenes.h"
+
+namespace rt {
+namespace {
+
+using namespace rt::testing;
+
+TEST(ThreadPool, RunsEveryItemOnce) {
+    ThreadPool pool(3);
+    std::vector<std::atomic<int>> runs(1000);
+    pool.parallel_for(runs.size(), [&](size_t i) { ++runs[i]; });
+    for (const auto& r : runs) EXPECT_EQ(r.load(), 1);
+    pool.parallel_for(0, [](size_t) { FAIL() << "no items, no calls"; });
+}
+
+TEST(ThreadPool, CallersShareThePoolAndEachGetsItsOwnItems) {
+    ThreadPool pool(2);
+    constexpr int kCallers = 6;
+    std::vector<std::vector<int>> seen(kCallers, std::vector<int>(200, 0));
+    std::vector<std::thread> callers;
+    for (int c = 0; c < kCallers; ++c)
+        callers.emplace_back([&, c] {
+            for (int round = 0; round < 20; ++round) pool.parallel_for(200, [&](size_t i) { ++seen[c][i]; });
+        });
+    for (auto& t : callers) t.join();
+    for (const auto& caller : seen)
+        for (int n : caller) EXPECT_EQ(n, 20);
+}
+
+TEST(ThreadPool, AnItemsExceptionReachesItsCallerAndThePoolGoesOn) {
+    ThreadPool pool(2);
+    std::atomic<int> ran{0};
+    EXPECT_THROW(pool.parallel_for(10000,
+                                   [&](size_t i) {
+                                       ++ran;
+                                       if (i == 3) throw std::runtime_error("item 3");
+                                   }),
+                 std::runtime_error);
+    EXPECT_LT(ran.load(), 10000) << "the items nobody had taken were skipped";
+    std::atomic<int> after{0};
+    pool.parallel_for(50, [&](size_t) { ++after; });
+    EXPECT_EQ(after.load(), 50);
+}
+
+TEST(ThreadPool, TheRenderPoolIsResizedOnRequest) {
+    set_render_threads(3);
+    const std::shared_ptr<ThreadPool> held = render_pool();
+    EXPECT_EQ(held->size(), 3u);
+    set_render_threads(1);
+    EXPECT_EQ(render_pool()->size(), 1u);
+    // A render still holding the old pool finishes on it.
+    std::atomic<int> ran{0};
+    held->parallel_for(8, [&](size_t) { ++ran; });
+    EXPECT_EQ(ran.load(), 8);
+    set_render_threads(0);
+    EXPECT_EQ(render_pool()->size(), resolve_thread_count(0));
+}
+
+// A tile rendered in bands on a pool is the tile rendered on one thread: the
+// same pixels, layers and counts, for full-resolution tiles and previews.
+TEST(ThreadPool, ATileOnThePoolIsTheTileOnOneThread) {
+    const Scene scene = floor_and_sphere(1.0f);
+    const Accelerator accel(scene, 1);
+    RenderSettings settings = make_settings(96, 72);
+    settings.set_samples_per_pixel(3);
+    const Renderer renderer(accel, settings, make_camera({0.0f, 3.0f, 9.0f}, {0.0f, 0.8f, 0.0f}, 40.0f));
+    ThreadPool pool(3);
+    const std::vector<AuxOutput> outputs(std::begin(kAuxOutputs), std::end(kAuxOutputs));
+    for (const auto& [tile, scale] : {std::pair{TileRect{0, 0, 96, 72}, 1u}, std::pair{TileRect{8, 5, 70, 53}, 1u},
+                                      std::pair{TileRect{0, 0, 96, 72}, 8u}, std::pair{TileRect{3, 2, 90, 67}, 3u}}) {
+        const uint32_t w = preview_extent(tile.width, scale), h = preview_extent(tile.height, scale);
+        std::vector<float> alone(size_t(w) * h * 3), pooled(alone.size());
+        AuxImage alone_aux(w, h, outputs), pooled_aux(w, h, outputs);
+        const RenderStats a = renderer.render_tile(tile, alone.data(), alone_aux.layers(), scale);
+        const RenderStats b = renderer.render_tile(pool, tile, pooled.data(), pooled_aux.layers(), scale);
+        EXPECT_EQ(alone, pooled) << "tile at " << tile.x << ", " << tile.y << " scale " << scale;
+        EXPECT_EQ(alone_aux.depth, pooled_aux.depth);
+        EXPECT_EQ(alone_aux.normal, pooled_aux.normal);
+        EXPECT_EQ(alone_aux.albedo, pooled_aux.albedo);
+        EXPECT_EQ(alone_aux.bvh_cost, pooled_aux.bvh_cost);
+        EXPECT_EQ(a.samples, b.samples);
+        EXPECT_EQ(a.rays.total(), b.rays.total());
+    }
+    float rgb[3];
+    EXPECT_THROW(renderer.render_tile(pool, {90, 0, 7, 1}, rgb), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rt
