@@ -85,7 +85,7 @@ NB_MODULE(rtcore, m) {
         .def("check", &PyScene::check, "camera"_a, "settings"_a,
              "Raises ValueError naming what the renderer refuses in the camera or settings; renders nothing.")
         .def("render_tile", &PyScene::render_tile, "camera"_a, "settings"_a, "x"_a, "y"_a, "width"_a, "height"_a,
-             nb::kw_only(), "aux"_a = nb::none(), "scale"_a = 1,
+             nb::kw_only(), "aux"_a = nb::none(), "scale"_a = 1, "known"_a = nb::none(), "known_stride"_a = 0,
              "Renders one tile on the render pool's threads (set_render_threads), the GIL released: float32 array "
              "(height, width, 3), linear RGB. Tiles rendered at once from several threads share the pool, the "
              "oldest first.\n\n"
@@ -95,7 +95,10 @@ NB_MODULE(rtcore, m) {
              "instead: 'color', each layer asked for ('depth' (h, w) float32, 0 on a miss; 'normal' and "
              "'albedo' (h, w, 3) float32, zeros on a miss; 'bvh_cost' (h, w, 2) uint32: BVH nodes visited and "
              "triangles tested over all the pixel's rays), 'rays', the rays traced, and 'samples', the camera samples "
-             "taken (samples_per_pixel per pixel, fewer where adaptive sampling stopped early).")
+             "taken (samples_per_pixel per pixel, fewer where adaptive sampling stopped early).\n"
+             "known={'color': ..., <each aux layer>: ...} with known_stride=s: a preview at scale s of this tile "
+             "(the tile starting on its grid) already computed the pixels whose x and y are multiples of s; they are "
+             "placed, not traced again, and the counts cover the pixels traced.")
         .def("render", &PyScene::render, "camera"_a, "settings"_a, "threads"_a = 0, "tile_size"_a = 32,
              "Renders the whole image on `threads` threads: float32 array (height, width, 3), linear RGB.")
         .def("intersect", &PyScene::intersect, "origins"_a, "directions"_a, "t_max"_a = nb::none(),

@@ -1,7 +1,9 @@
 // Rendering from Python: tiles (with their auxiliary outputs and previews),
 // whole images and debugger paths.
+#include <algorithm>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "aov.h"
@@ -30,26 +32,73 @@ std::vector<rt::AuxOutput> read_aux(nb::handle aux) {
     return outputs;
 }
 
+// Copies the pixels a preview at scale `stride` computed for this tile (the
+// layers of `known`, keyed as render_tile answers them: 'color' and each
+// auxiliary layer, ceil(h/stride) x ceil(w/stride) pixels) to their places in
+// the tile's buffers.
+void place_known(nb::handle known, uint32_t stride, const rt::TileRect& tile, std::vector<float>& rgb,
+                 rt::AuxImage& layers) {
+    if (stride == 0) throw std::invalid_argument("known_stride: known pixels need the preview's scale (>= 1)");
+    if (tile.x % stride != 0 || tile.y % stride != 0)
+        throw std::invalid_argument("known_stride: the tile at (" + std::to_string(tile.x) + ", " +
+                                    std::to_string(tile.y) + ") does not start on the preview's grid of " +
+                                    std::to_string(stride));
+    if (!nb::isinstance<nb::dict>(known)) throw std::invalid_argument("known: expected a dict of layers");
+    const auto layers_in = nb::borrow<nb::dict>(known);
+    const size_t kw = rt::preview_extent(tile.width, stride), kh = rt::preview_extent(tile.height, stride);
+    const auto place = [&](const char* name, auto* target, size_t channels) {
+        using T = std::remove_pointer_t<decltype(target)>;
+        if (!layers_in.contains(name)) throw std::invalid_argument(std::string("known: no '") + name + "' layer");
+        nb::ndarray<const T, nb::c_contig, nb::device::cpu> values;
+        if (!nb::try_cast(layers_in[name], values) || values.size() != kh * kw * channels)
+            throw std::invalid_argument(std::string("known['") + name + "']: expected " + std::to_string(kh) + "x" +
+                                        std::to_string(kw) + "x" + std::to_string(channels) + " C-contiguous " +
+                                        (std::is_same_v<T, float> ? "float32" : "uint32") + " values");
+        for (size_t j = 0; j < kh; ++j)
+            for (size_t i = 0; i < kw; ++i)
+                std::copy_n(values.data() + (j * kw + i) * channels, channels,
+                            target + (j * stride * tile.width + i * stride) * channels);
+    };
+    place("color", rgb.data(), 3);
+    for (rt::AuxOutput output : layers.outputs()) {
+        const std::string name = rt::aux_name(output);
+        switch (output) {
+            case rt::DEPTH: place(name.c_str(), layers.depth.data(), 1); break;
+            case rt::NORMAL: place(name.c_str(), layers.normal.data(), 3); break;
+            case rt::ALBEDO: place(name.c_str(), layers.albedo.data(), 3); break;
+            default: place(name.c_str(), layers.bvh_cost.data(), 2); break;
+        }
+    }
+}
+
 }  // namespace
 
 nb::object PyScene::render_tile(nb::handle camera, nb::handle settings, uint32_t x, uint32_t y, uint32_t width,
-                                uint32_t height, nb::handle aux, uint32_t scale) const {
+                                uint32_t height, nb::handle aux, uint32_t scale, nb::handle known,
+                                uint32_t known_stride) const {
     const rt::Renderer renderer(*accel_, read_message<rt::RenderSettings>(settings, "settings"),
                                 read_message<rt::Camera>(camera, "camera"));
     const rt::TileRect tile{x, y, width, height};
     renderer.check_tile(tile, scale);
     const std::vector<rt::AuxOutput> outputs = aux.is_none() ? std::vector<rt::AuxOutput>{} : read_aux(aux);
     const size_t w = rt::preview_extent(width, scale), h = rt::preview_extent(height, scale);
+    if (!known.is_none() && scale != 1)
+        throw std::invalid_argument("known: a preview (scale " + std::to_string(scale) + ") has no known pixels");
     std::vector<float> rgb;
     rt::AuxImage layers;
-    rt::RenderStats stats;
     {
         // Even allocating the buffers (first touches of fresh pages) is work
         // the server's event loop must not wait for.
         nb::gil_scoped_release release;
         rgb.resize(w * h * 3);
         layers = rt::AuxImage(uint32_t(w), uint32_t(h), outputs);
-        stats = renderer.render_tile(*rt::render_pool(), tile, rgb.data(), layers.layers(), scale);
+    }
+    if (!known.is_none()) place_known(known, known_stride, tile, rgb, layers);
+    rt::RenderStats stats;
+    {
+        nb::gil_scoped_release release;
+        stats = renderer.render_tile(*rt::render_pool(), tile, rgb.data(), layers.layers(), scale,
+                                     known.is_none() ? 0 : known_stride);
     }
     auto color = to_numpy(std::move(rgb), {h, w, 3});
     if (aux.is_none()) return nb::cast(color);

@@ -45,8 +45,11 @@ class PyScene {
 
     // The colour array, or with `aux` (a list of names or rt.AuxOutput values)
     // a dict of the colour, the layers asked for and the rays traced.
+    // `known` (with `known_stride`): the layers a preview computed for this
+    // tile's pixels on its grid, which are then not traced again.
     nb::object render_tile(nb::handle camera, nb::handle settings, uint32_t x, uint32_t y, uint32_t width,
-                           uint32_t height, nb::handle aux, uint32_t scale) const;
+                           uint32_t height, nb::handle aux, uint32_t scale, nb::handle known,
+                           uint32_t known_stride) const;
     nb::ndarray<nb::numpy, float> render(nb::handle camera, nb::handle settings, unsigned threads,
                                          uint32_t tile_size) const;
     nb::bytes debug_path(nb::handle camera, nb::handle settings, uint32_t x, uint32_t y) const;

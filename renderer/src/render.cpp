@@ -98,8 +98,11 @@ RenderStats Renderer::render_tile(const TileRect& tile, float* rgb, const AuxLay
 }
 
 RenderStats Renderer::render_tile(ThreadPool& pool, const TileRect& tile, float* rgb, const AuxLayers& aux,
-                                  uint32_t scale) const {
+                                  uint32_t scale, uint32_t known_stride) const {
     check_tile(tile, scale);
+    if (known_stride != 0 && scale != 1)
+        throw std::invalid_argument("known pixels (stride " + std::to_string(known_stride) +
+                                    ") are for full-resolution tiles, not a preview at scale " + std::to_string(scale));
     const uint32_t rows = preview_extent(tile.height, scale), columns = preview_extent(tile.width, scale);
     const uint32_t bands = (rows + kCacheBlock - 1) / kCacheBlock;
     std::vector<RenderStats> band_stats(bands);
@@ -108,7 +111,7 @@ RenderStats Renderer::render_tile(ThreadPool& pool, const TileRect& tile, float*
         const TileRect rect{tile.x, tile.y + first_row * scale, tile.width,
                             std::min(tile.height - first_row * scale, kCacheBlock * scale)};
         const size_t first = size_t(first_row) * columns;
-        band_stats[band] = render_pixels(rect, scale, rgb + first * 3, aux.from(first), columns);
+        band_stats[band] = render_pixels(rect, scale, rgb + first * 3, aux.from(first), columns, known_stride);
     });
     RenderStats stats;
     for (const RenderStats& s : band_stats) stats += s;
@@ -116,7 +119,7 @@ RenderStats Renderer::render_tile(ThreadPool& pool, const TileRect& tile, float*
 }
 
 RenderStats Renderer::render_pixels(const TileRect& tile, uint32_t scale, float* rgb, const AuxLayers& aux,
-                                    size_t row_pixels) const {
+                                    size_t row_pixels, uint32_t known_stride) const {
     RenderStats stats;
     const uint32_t rows = preview_extent(tile.height, scale), columns = preview_extent(tile.width, scale);
     // Neighbouring rays visit mostly the same BVH nodes; walking a large tile
@@ -125,9 +128,13 @@ RenderStats Renderer::render_pixels(const TileRect& tile, uint32_t scale, float*
     for (uint32_t block_y = 0; block_y < rows; block_y += kCacheBlock) {
         for (uint32_t block_x = 0; block_x < columns; block_x += kCacheBlock) {
             for (uint32_t j = block_y; j < std::min(rows, block_y + kCacheBlock); ++j) {
+                const uint32_t y = tile.y + j * scale;
+                const bool known_row = known_stride != 0 && y % known_stride == 0;
                 for (uint32_t i = block_x; i < std::min(columns, block_x + kCacheBlock); ++i) {
+                    const uint32_t x = tile.x + i * scale;
+                    if (known_row && x % known_stride == 0) continue;
                     const size_t index = j * row_pixels + i;
-                    const vec3 c = render_pixel(tile.x + i * scale, tile.y + j * scale, index, aux, stats);
+                    const vec3 c = render_pixel(x, y, index, aux, stats);
                     float* out = rgb + index * 3;
                     out[0] = c.r;
                     out[1] = c.g;

@@ -70,8 +70,12 @@ class Renderer {
 
     // The same on every thread of `pool`, in bands of kCacheBlock rows taken
     // first come, first served with whatever else the pool is rendering.
+    // With `known_stride` s > 0 (scale 1 only), pixels whose image x and y are
+    // both multiples of s already hold their final values in `rgb` and `aux`
+    // (a preview at scale s computed them exactly as this render would) and
+    // are not traced again; the counts are those of the pixels traced.
     RenderStats render_tile(ThreadPool& pool, const TileRect& tile, float* rgb, const AuxLayers& aux = {},
-                            uint32_t scale = 1) const;
+                            uint32_t scale = 1, uint32_t known_stride = 0) const;
 
     // The whole image on `threads` threads (0: all cores) in square tiles, and
     // the layers `aux` holds, when given (it must have the image's size).
@@ -86,7 +90,7 @@ class Renderer {
   private:
     // render_tile without the checks, writing output row j at pixel j * row_pixels.
     RenderStats render_pixels(const TileRect& tile, uint32_t scale, float* rgb, const AuxLayers& aux,
-                              size_t row_pixels) const;
+                              size_t row_pixels, uint32_t known_stride = 0) const;
     // Pixel (x, y), its outputs stored at `index` of `aux`.
     vec3 render_pixel(uint32_t x, uint32_t y, size_t index, const AuxLayers& aux, RenderStats& stats) const;
     // Pixels per side of the blocks a tile is walked in.

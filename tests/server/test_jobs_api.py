@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 import rtcore
 from PIL import Image
+from google.protobuf import json_format
 from rt import job_pb2
 
 from stream_reader import assemble, read_stream, wait_for
@@ -211,6 +212,25 @@ def test_adaptive_jobs_report_their_mean_samples_per_pixel(client, cornell_id):
     assert uniform["mean_samples_per_pixel"] == 64
     adaptive = wait_for(client, submit(client, cornell_id, settings={**settings, "adaptive_threshold": 0.2}).json()["id"])
     assert adaptive["state"] == "DONE" and 0 < adaptive["mean_samples_per_pixel"] < 64
+
+
+def test_pixels_the_preview_traced_are_not_traced_again(client, cornell_id, scenes_dir):
+    """A 320x240 job has a preview pass; the full-resolution tiles take its
+    pixels: the job traces exactly the rays of one render of the image, and
+    its image (colour and auxiliary layers) is that render's."""
+    settings = {"width": 320, "height": 240, "samples_per_pixel": 4, "adaptive_threshold": 0.05}
+    job = wait_for(client, submit(client, cornell_id, settings=settings, outputs=["DEPTH", "BVH_COST"]).json()["id"])
+    assert job["state"] == "DONE" and job["passes"] == 2
+    scene = rtcore.Scene.load(str(scenes_dir / "cornell.obj"))
+    request = job_pb2.JobRequest()
+    json_format.ParseDict(job["request"], request)
+    reference = scene.render_tile(request.camera.SerializeToString(), request.settings.SerializeToString(),
+                                  0, 0, 320, 240, aux=["depth", "bvh_cost"])
+    assert int(job["rays"]) == reference["rays"]
+    assert job["mean_samples_per_pixel"] == pytest.approx(reference["samples"] / (320 * 240), rel=1e-6)
+    with np.load(client.app.state.settings.jobs_dir / job["id"] / "layers.npz") as saved:
+        for name in ("color", "depth", "bvh_cost"):
+            np.testing.assert_array_equal(saved[name].reshape(reference[name].shape), reference[name], err_msg=name)
 
 
 def test_settings_the_renderer_refuses_are_refused_before_queueing(client, cornell_id):

@@ -188,22 +188,22 @@ class JobManager:
         bloom = request.settings.bloom_strength > 0
         job.passes = len(passes) + bloom
         job.tiles_total = len(specs) + bloom
-        total_samples = sum(s.samples for s in specs)
+        total_pixels = sum(s.pixels for s in specs)
         image = JobImage(request.settings.width, request.settings.height, aux_names(request))
         request_bytes = request.SerializeToString()
         run = secrets.token_hex(3)
         args = (running.scene.sha256, str(running.scene.scene_file), request_bytes, job.id)
         futures: dict[str, TileSpec] = {}
+        keys: dict[TileSpec, str] = {}
         tasks, priorities = {}, {}
-        for spec in specs:
-            key = f"tile-{job.id}-{run}-{spec.pass_index}-{spec.x}-{spec.y}"
-            tasks[key] = (render_tile, *args, spec)
+        for spec in specs:  # previews first: a tile's task names its preview's key, whose result it takes
+            key = keys[spec] = f"tile-{job.id}-{run}-{spec.pass_index}-{spec.x}-{spec.y}"
+            tasks[key] = (render_tile, *args, spec) + ((keys[spec.preview],) if spec.preview else ())
             priorities[key] = spec.priority
             futures[key] = spec
             self._tiles[key] = (running, spec)
         submitted = self._cluster.submit(f"job-{job.id}-{run}", tasks, priorities)
-        samples_done = 0
-        camera_samples = pixels_done = 0  # of the full-resolution pass
+        pixels_done = camera_samples = 0
         last_saved = 0.0
         shutdown = False
         try:
@@ -217,14 +217,13 @@ class JobManager:
                 image.add(spec, result["layers"])
                 await running.stream.publish(result["message"])
                 job.tiles_done += 1
-                samples_done += spec.samples
-                job.progress = samples_done / total_samples
+                # Previews count too: their pixels are part of the image.
+                pixels_done += spec.pixels
+                camera_samples += result["samples"]
+                job.progress = pixels_done / total_pixels
+                job.mean_samples_per_pixel = camera_samples / pixels_done
                 job.render_seconds += result["seconds"]
                 job.rays += result["rays"]
-                if spec.scale == 1:
-                    camera_samples += result["samples"]
-                    pixels_done += spec.w * spec.h
-                    job.mean_samples_per_pixel = camera_samples / pixels_done
                 if time.monotonic() - last_saved > PERSIST_EVERY_SECONDS:
                     self._store.save(job)
                     last_saved = time.monotonic()

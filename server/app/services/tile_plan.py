@@ -1,8 +1,10 @@
 """How a job's image is cut into Dask tasks: passes, tile sizes, order and priority.
 
-A large image first gets a preview pass (one sample per 8x8 block, cheap) so the
+A large image first gets a preview pass (one pixel per 8x8 block, cheap) so the
 viewer shows the whole picture at once; the full-resolution pass then refines
-it. Tiles run centre-out, where the subject usually is. Priorities make the
+it. A preview pixel is final (the full render computes it the same way), so
+each full-resolution tile takes its preview's pixels instead of tracing them
+again: the preview costs nothing. Tiles run centre-out, where the subject usually is. Priorities make the
 cluster fair: an interactive job outranks batch jobs, any job's preview outranks
 full-resolution tiles, and tiles of equal rank from different jobs interleave
 instead of one job waiting for another to finish.
@@ -33,13 +35,22 @@ class TileSpec:
     h: int
     scale: int
     priority: int
+    preview: TileSpec | None = None  # the preview tile that computed this tile's pixels on its grid
 
     def region(self) -> job_pb2.TileRegion:
         return job_pb2.TileRegion(**{"pass": self.pass_index}, x=self.x, y=self.y, w=self.w, h=self.h)
 
     @property
-    def samples(self) -> int:
-        return -(-self.w // self.scale) * -(-self.h // self.scale)
+    def pixels(self) -> int:
+        """The pixels this tile traces: one per scale x scale block, less those its preview traced."""
+        traced = _blocks(self.w, self.scale) * _blocks(self.h, self.scale)
+        if self.preview is not None:
+            traced -= _blocks(self.w, self.preview.scale) * _blocks(self.h, self.preview.scale)
+        return traced
+
+
+def _blocks(extent: int, scale: int) -> int:
+    return -(-extent // scale)
 
 
 def full_tile_size(width: int, height: int, threads: int) -> int:
@@ -60,11 +71,16 @@ def _grid(width: int, height: int, size: int) -> list[tuple[int, int, int, int]]
 def plan_passes(width: int, height: int, threads: int, interactive: bool) -> list[list[TileSpec]]:
     boost = INTERACTIVE_BOOST if interactive else 0
     passes: list[list[TileSpec]] = []
+    previews: dict[tuple[int, int], TileSpec] = {}
     if width * height >= PREVIEW_MIN_PIXELS:
         passes.append([TileSpec(0, x, y, w, h, PREVIEW_SCALE, boost + PREVIEW_BOOST - i)
                        for i, (x, y, w, h) in enumerate(_grid(width, height, PREVIEW_TILE))])
+        previews = {(p.x, p.y): p for p in passes[0]}
     size = full_tile_size(width, height, threads)
     index = len(passes)
-    passes.append([TileSpec(index, x, y, w, h, 1, boost - i)
+    # Every tile size divides PREVIEW_TILE and is a multiple of PREVIEW_SCALE:
+    # a tile lies in one preview tile and starts on its grid.
+    passes.append([TileSpec(index, x, y, w, h, 1, boost - i,
+                            previews.get((x - x % PREVIEW_TILE, y - y % PREVIEW_TILE)))
                    for i, (x, y, w, h) in enumerate(_grid(width, height, size))])
     return passes

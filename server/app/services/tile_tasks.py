@@ -29,13 +29,15 @@ def aux_names(request: job_pb2.JobRequest) -> list[str]:
 TILE_STARTED_TOPIC = "rt-tile-started"
 
 
-def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, job_id: str, spec: TileSpec) -> dict[str, Any]:
+def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, job_id: str, spec: TileSpec,
+                preview: dict[str, Any] | None = None) -> dict[str, Any]:
     """Renders one tile: its layers as arrays of ceil(h/scale) x ceil(w/scale)
     pixels; the tile as the stream sends it to viewers (a serialized
     rt.TileStreamMessage, its RGBA8 pixels through the job's exposure and tone
     map), made here so that the server's event loop only forwards it; the rays
     traced and camera samples taken; and when the worker started and how long
-    it took."""
+    it took. `preview` is the result of spec.preview, whose pixels on its grid
+    the tile takes instead of tracing them."""
     started = time.time()
     worker = get_worker()
     worker.log_event(TILE_STARTED_TOPIC, worker.get_current_task())
@@ -44,8 +46,14 @@ def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, job_id: 
     camera = request.camera.SerializeToString()
     settings = request.settings.SerializeToString()
     # With aux given (even empty) rtcore answers a dict that also counts the rays.
+    known, stride = None, 0
+    if spec.preview is not None and preview is not None:
+        stride = spec.preview.scale
+        i, j = (spec.x - spec.preview.x) // stride, (spec.y - spec.preview.y) // stride
+        w, h = -(-spec.w // stride), -(-spec.h // stride)
+        known = {name: np.ascontiguousarray(layer[j:j + h, i:i + w]) for name, layer in preview["layers"].items()}
     layers = scene.render_tile(camera, settings, spec.x, spec.y, spec.w, spec.h, scale=spec.scale,
-                               aux=aux_names(request))
+                               aux=aux_names(request), known=known, known_stride=stride)
     rays = int(layers.pop("rays"))
     samples = int(layers.pop("samples"))
     layers = {name: np.asarray(array) for name, array in layers.items()}
