@@ -25,6 +25,7 @@ import math
 import os
 import statistics
 import sys
+import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -95,6 +96,7 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
     from distributed import Client, LocalCluster, wait
     from rt import job_pb2, render_pb2
 
+    from app.services import layer_files
     from app.services.cluster import RenderWorkerSetup
     from app.services.tile_plan import TileSpec, plan_passes
     from app.services.tile_tasks import render_tile
@@ -108,8 +110,12 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
                for n in (1, 2)}
     scene_key = f"scaling-{scene_path.name}"
 
+    # The tasks write their layers, as the service's do.
+    scratch = tempfile.TemporaryDirectory(prefix="rt-scaling-")
+    layers = str(layer_files.create(Path(scratch.name), size, size, []))
+
     def run_image(client, tiles) -> list[dict]:
-        futures = [client.submit(render_tile, scene_key, str(scene_path), request, "bench", t, pure=False)
+        futures = [client.submit(render_tile, scene_key, str(scene_path), request, "bench", layers, t, pure=False)
                    for t in tiles]
         wait(futures)
         return client.gather(futures)
@@ -135,6 +141,7 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
             else:
                 small, large = serial_per_task(client, 32, 256), serial_per_task(client, 256, 32)
                 per_byte = max(0.0, (large - small) / ((256 * 256 - 32 * 32) * RESULT_BYTES_PER_PIXEL))
+    scratch.cleanup()
     return Throughput(scene=scene_path.name, size=size, threads=threads, workers=workers, pixel_s=pixel_s,
                       task_overhead_s=overhead, serial_s=max(0.0, small - per_byte * 32 * 32 * RESULT_BYTES_PER_PIXEL),
                       serial_s_per_byte=per_byte, latency_s=latency)

@@ -12,6 +12,10 @@ def test_the_embedded_cluster_does_no_upkeep_it_does_not_need(client):
     assert worker.memory_manager.memory_pause_fraction is False
 
 
+def test_tiles_are_planned_for_the_embedded_workers_threads_from_the_start(client):
+    assert client.app.state.cluster.total_threads() == client.app.state.settings.embedded_threads == 2
+
+
 def test_tiles_render_on_as_many_threads_as_the_worker_has(client):
     """RenderWorkerSetup sizes rtcore's render pool to the worker, and keeps freed memory for reuse."""
     import numpy as np

@@ -67,9 +67,9 @@ def test_a_job_is_done_once_its_layers_are_saved_and_images_are_made_when_asked(
     job = submit(client, cornell_id).json()
     wait_for(client, job["id"])
     folder = client.app.state.settings.jobs_dir / job["id"]
-    assert sorted(p.name for p in folder.iterdir()) == ["layers.npz"]
-    with np.load(folder / "layers.npz") as saved:
-        color = saved["color"]
+    assert sorted(p.name for p in folder.iterdir()) == ["layers"]
+    assert sorted(p.name for p in (folder / "layers").iterdir()) == ["color.npy"]
+    color = np.load(folder / "layers" / "color.npy")
     first = client.get(f"/api/jobs/{job['id']}/image.png").content
     assert (folder / "image.png").is_file() and not (folder / "image.exr").exists()
     assert client.get(f"/api/jobs/{job['id']}/image.png").content == first, "kept, not made again"
@@ -77,7 +77,7 @@ def test_a_job_is_done_once_its_layers_are_saved_and_images_are_made_when_asked(
     expected = rtcore.encode_srgb8(np.ascontiguousarray(color))[..., :3]
     assert np.array_equal(np.asarray(Image.open(io.BytesIO(first)).convert("RGB")), expected)
     assert client.get(f"/api/jobs/{job['id']}/image.exr").status_code == 200
-    assert sorted(p.name for p in folder.iterdir()) == ["image.exr", "image.png", "layers.npz"]
+    assert sorted(p.name for p in folder.iterdir()) == ["image.exr", "image.png", "layers"]
 
 
 def test_bloom_is_one_last_tile_over_the_whole_image_and_moves_light_without_adding_any(client, cornell_id):
@@ -95,8 +95,7 @@ def test_bloom_is_one_last_tile_over_the_whole_image_and_moves_light_without_add
     wait_for(client, plain["id"])
     layers = {}
     for job in (plain, bloomed):
-        with np.load(client.app.state.settings.jobs_dir / job["id"] / "layers.npz") as saved:
-            layers[job["id"]] = saved["color"].astype(np.float64)
+        layers[job["id"]] = np.load(client.app.state.settings.jobs_dir / job["id"] / "layers" / "color.npy").astype(np.float64)
     before, after = layers[plain["id"]], layers[bloomed["id"]]
     assert np.abs(after - before).max() > 0.01, "bloom changed the image"
     assert after.sum() == pytest.approx(before.sum(), rel=1e-5), "bloom moves light, it adds none"
@@ -228,9 +227,10 @@ def test_pixels_the_preview_traced_are_not_traced_again(client, cornell_id, scen
                                   0, 0, 320, 240, aux=["depth", "bvh_cost"])
     assert int(job["rays"]) == reference["rays"]
     assert job["mean_samples_per_pixel"] == pytest.approx(reference["samples"] / (320 * 240), rel=1e-6)
-    with np.load(client.app.state.settings.jobs_dir / job["id"] / "layers.npz") as saved:
-        for name in ("color", "depth", "bvh_cost"):
-            np.testing.assert_array_equal(saved[name].reshape(reference[name].shape), reference[name], err_msg=name)
+    layers = client.app.state.settings.jobs_dir / job["id"] / "layers"
+    for name in ("color", "depth", "bvh_cost"):
+        saved = np.load(layers / f"{name}.npy")
+        np.testing.assert_array_equal(saved.reshape(reference[name].shape), reference[name], err_msg=name)
 
 
 def test_settings_the_renderer_refuses_are_refused_before_queueing(client, cornell_id):

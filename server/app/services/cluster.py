@@ -73,6 +73,9 @@ class RenderCluster:
                                        asynchronous=True, dashboard_address=None,
                                        scheduler_kwargs={"dashboard": False})
         client = await Client(local, asynchronous=True)
+        # The client's view of the cluster, which sizes tiles (total_threads),
+        # must include the worker before the first job.
+        await client.wait_for_workers(1)
         await client.register_plugin(RenderWorkerSetup())
         log.info("embedded Dask cluster with %d threads", settings.embedded_threads)
         return cls(client, local)

@@ -1,9 +1,8 @@
-"""A job's image while tiles arrive, and the files it leaves when done.
+"""A job's finished images, made from its layer files (layer_files.py): the
+bloom pass, image.png, image.exr and the auxiliary layers as pictures.
 
-Colour and auxiliary layers are assembled in linear float from the
-full-resolution tiles; preview tiles only travel to viewers. Tiles and
-image.png are encoded to sRGB by the same function (the renderer's own), so a
-viewer that paints every tile holds exactly image.png.
+Tiles and image.png are encoded to sRGB by the same function (the renderer's
+own), so a viewer that paints every tile holds exactly image.png.
 """
 
 from __future__ import annotations
@@ -15,13 +14,7 @@ import numpy as np
 import rtcore
 from PIL import Image
 
-from .tile_plan import TileSpec
-
-# A finished job's layers, linear float, named "color" and as AUX_CHANNELS.
-LAYERS_FILE = "layers.npz"
-
-# Channels of each auxiliary layer, as rtcore.render_tile returns them.
-AUX_CHANNELS = {"depth": 1, "normal": 3, "albedo": 3, "bvh_cost": 2}
+from . import layer_files
 
 
 def rgba8(color: np.ndarray, settings: bytes | None = None) -> np.ndarray:
@@ -75,58 +68,39 @@ def aux_preview(name: str, layer: np.ndarray) -> np.ndarray:
     return np.concatenate([rgb, np.full((h, w, 1), 255, np.uint8)], axis=2)
 
 
-class JobImage:
-    def __init__(self, width: int, height: int, aux: list[str]):
-        self.width, self.height = width, height
-        self.color = np.zeros((height, width, 3), np.float32)
-        self.aux = {name: np.zeros((height, width, AUX_CHANNELS[name]), np.float32) for name in aux}
-
-    def add(self, spec: TileSpec, layers: dict[str, np.ndarray]) -> None:
-        """Takes a finished full-resolution tile's layers (previews only travel to viewers)."""
-        if spec.scale == 1:
-            self.color[spec.y:spec.y + spec.h, spec.x:spec.x + spec.w] = layers["color"]
-            for name, target in self.aux.items():
-                target[spec.y:spec.y + spec.h, spec.x:spec.x + spec.w] = layers[name].reshape(spec.h, spec.w, -1)
-
-    def bloom(self, settings: bytes) -> bytes:
-        """Applies the bloom of `settings` to the colour; answers the result's
-        RGBA8 pixels."""
-        self.color = rtcore.apply_bloom(self.color, settings)
-        return rgba8(self.color, settings).tobytes()
-
-    def save(self, folder: Path) -> None:
-        """Every layer in linear float as LAYERS_FILE, written whole, then renamed:
-        the job's result, from which its images are made when asked for."""
-        folder.mkdir(parents=True, exist_ok=True)
-        partial = folder / f"part.{LAYERS_FILE}"
-        with open(partial, "wb") as f:
-            np.savez(f, color=self.color, **self.aux)
-        partial.replace(folder / LAYERS_FILE)
+def bloom(job_folder: Path, settings: bytes) -> bytes:
+    """Applies the bloom of `settings` (serialized) to a job's colour once every
+    tile is in, in place; answers the result's RGBA8 pixels."""
+    color = layer_files.load(job_folder, "color", layer_files.PARTIAL, writable=True)
+    bloomed = rtcore.apply_bloom(np.ascontiguousarray(color), settings)
+    color[...] = bloomed
+    color.flush()
+    return rgba8(bloomed, settings).tobytes()
 
 
 def output_file(folder: Path, filename: str, settings: bytes) -> Path:
     """A done job's image.png, image.exr (colour and every auxiliary layer,
-    linear) or <layer>.png, made from LAYERS_FILE the first time it is asked
-    for and kept. Encoding them (zip for the EXR, zlib for PNGs) costs more
-    than saving the layers, and many jobs never need most of them, so a job is
-    done once its layers are saved. `settings` (the job's, serialized) give image.png its
+    linear) or <layer>.png, made from its layer files the first time it is
+    asked for and kept. Encoding them (zip for the EXR, zlib for PNGs) costs
+    more than the render's own writing, and many jobs never need most of them,
+    so a job is done once its layers are complete. `settings` (the job's, serialized) give image.png its
     exposure and tone map. Callers serialize calls for one folder. Raises
     FileNotFoundError when the job has no such layer."""
     path = folder / filename
     if path.is_file():
         return path
     name, suffix = filename.rsplit(".", 1)
-    with np.load(folder / LAYERS_FILE) as saved:
-        if suffix == "exr":
-            layers = {layer: saved[layer] for layer in saved.files}
-            partial = folder / f"part.{filename}"
-            rtcore.write_exr(str(partial), layers.pop("color"), layers)
-        else:
-            layer = "color" if name == "image" else name
-            if layer not in saved.files:
-                raise FileNotFoundError(path)
-            picture = rgba8(saved[layer], settings) if layer == "color" else aux_preview(name, saved[layer])
-            partial = folder / f"part.{filename}"
-            partial.write_bytes(png_bytes(picture))
+    saved = layer_files.names(folder)
+    partial = folder / f"part.{filename}"
+    if suffix == "exr":
+        layers = {layer: np.ascontiguousarray(layer_files.load(folder, layer)) for layer in saved}
+        rtcore.write_exr(str(partial), layers.pop("color"), layers)
+    else:
+        layer = "color" if name == "image" else name
+        if layer not in saved:
+            raise FileNotFoundError(path)
+        values = np.asarray(layer_files.load(folder, layer))
+        picture = rgba8(values, settings) if layer == "color" else aux_preview(name, values)
+        partial.write_bytes(png_bytes(picture))
     partial.replace(path)
     return path

@@ -1,8 +1,9 @@
 """Render jobs: from a request to Dask tile tasks, and from their results to the
 job record, the tile stream and the finished images.
 
-Each tile is one Dask task (tile_tasks.render_tile). The server keeps the job's
-record, assembles the image as results come back, and persists the record so a
+Each tile is one Dask task (tile_tasks.render_tile), which writes its pixels
+into the job's layer files. The server keeps the job's record, forwards each
+tile to the job's viewers as it comes back, and persists the record so a
 restart can pick the job up again from the start.
 """
 
@@ -22,8 +23,9 @@ from rt import job_pb2
 
 from ..core.config import Settings
 from ..core.proto import complete, fill_absent
+from . import layer_files
 from .cluster import RenderCluster
-from .job_image import JobImage, output_file
+from .job_image import bloom, output_file
 from .job_store import JobStore
 from .scene_store import SceneStore, StoredScene
 from .streams import TileStream
@@ -189,10 +191,12 @@ class JobManager:
         job.passes = len(passes) + bloom
         job.tiles_total = len(specs) + bloom
         total_pixels = sum(s.pixels for s in specs)
-        image = JobImage(request.settings.width, request.settings.height, aux_names(request))
+        folder = self.folder(job.id)
+        layers_dir = await asyncio.to_thread(layer_files.create, folder, request.settings.width,
+                                             request.settings.height, aux_names(request))
         request_bytes = request.SerializeToString()
         run = secrets.token_hex(3)
-        args = (running.scene.sha256, str(running.scene.scene_file), request_bytes, job.id)
+        args = (running.scene.sha256, str(running.scene.scene_file), request_bytes, job.id, str(layers_dir))
         futures: dict[str, TileSpec] = {}
         keys: dict[TileSpec, str] = {}
         tasks, priorities = {}, {}
@@ -214,7 +218,6 @@ class JobManager:
                 if job.state == job_pb2.QUEUED:
                     job.state = job_pb2.RUNNING
                     job.started_at = result["started"]
-                image.add(spec, result["layers"])
                 await running.stream.publish(result["message"])
                 job.tiles_done += 1
                 # Previews count too: their pixels are part of the image.
@@ -228,18 +231,19 @@ class JobManager:
                     self._store.save(job)
                     last_saved = time.monotonic()
             if bloom:
-                await self._bloom(running, image, len(passes))
-            await asyncio.to_thread(image.save, self.folder(job.id))
+                await self._bloom(running, folder, len(passes))
+            layer_files.complete(folder)
             self._end(job, job_pb2.DONE)
         except asyncio.CancelledError as e:
             await client.cancel(submitted)
             shutdown = "shutdown" in e.args
             if not shutdown:
-                shutil.rmtree(self.folder(job.id), ignore_errors=True)
+                shutil.rmtree(folder, ignore_errors=True)
                 self._end(job, job_pb2.CANCELLED, "cancelled by request")
         except Exception as e:  # a tile failed: the job fails with the tile's reason
             log.exception("job %s failed", job.id)
             await client.cancel(submitted)
+            shutil.rmtree(folder, ignore_errors=True)
             self._end(job, job_pb2.FAILED, f"{type(e).__name__}: {e}")
         finally:
             for key in futures:
@@ -253,12 +257,13 @@ class JobManager:
 
 
     @staticmethod
-    async def _bloom(running: RunningJob, image: JobImage, pass_index: int) -> None:
+    async def _bloom(running: RunningJob, folder: Path, pass_index: int) -> None:
         """Bloom spreads light across tile borders, so it runs on the whole image
         once every tile is in; viewers receive the result as one last tile."""
         job = running.record
-        rgba = await asyncio.to_thread(image.bloom, job.request.settings.SerializeToString())
-        region = job_pb2.TileRegion(**{"pass": pass_index}, x=0, y=0, w=image.width, h=image.height)
+        settings = job.request.settings
+        rgba = await asyncio.to_thread(bloom, folder, settings.SerializeToString())
+        region = job_pb2.TileRegion(**{"pass": pass_index}, x=0, y=0, w=settings.width, h=settings.height)
         tile = job_pb2.Tile(job=job.id, region=region, scale=1, pixels=rgba)
         await running.stream.publish(job_pb2.TileStreamMessage(tile=tile).SerializeToString())
         job.tiles_done += 1

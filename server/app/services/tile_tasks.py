@@ -1,9 +1,10 @@
 """What a Dask worker runs: one tile of one job.
 
 Workers import this module by name, so it stays small and depends only on
-rtcore, the scene cache and the tile plan. The arguments are plain values (the
-scene's path and content hash, the serialized request, the tile) so that any
-worker that sees the shared data folder can run any tile.
+rtcore, the scene cache, the tile plan and the layer files. The arguments are
+plain values (the scene's path and content hash, the serialized request, the
+job's layer folder, the tile) so that any worker that sees the shared data
+folder can run any tile.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ import rtcore
 from distributed import get_worker
 from rt import job_pb2
 
+from . import layer_files
 from .scene_cache import get_scene
 from .tile_plan import TileSpec
 
@@ -29,10 +31,12 @@ def aux_names(request: job_pb2.JobRequest) -> list[str]:
 TILE_STARTED_TOPIC = "rt-tile-started"
 
 
-def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, job_id: str, spec: TileSpec,
-                preview: dict[str, Any] | None = None) -> dict[str, Any]:
-    """Renders one tile: its layers as arrays of ceil(h/scale) x ceil(w/scale)
-    pixels; the tile as the stream sends it to viewers (a serialized
+def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, job_id: str, layers_dir: str,
+                spec: TileSpec, preview: dict[str, Any] | None = None) -> dict[str, Any]:
+    """Renders one tile. A full-resolution tile writes its layers into the
+    job's layer files in `layers_dir`; a preview answers them, arrays of
+    ceil(h/scale) x ceil(w/scale) pixels, for the tiles that take its pixels.
+    Either answers the tile as the stream sends it to viewers (a serialized
     rt.TileStreamMessage, its RGBA8 pixels through the job's exposure and tone
     map), made here so that the server's event loop only forwards it; the rays
     traced and camera samples taken; and when the worker started and how long
@@ -59,8 +63,10 @@ def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, job_id: 
     layers = {name: np.asarray(array) for name, array in layers.items()}
     tile = job_pb2.Tile(job=job_id, region=spec.region(), scale=spec.scale,
                         pixels=rtcore.encode_srgb8(layers["color"], settings).tobytes())
+    if spec.scale == 1:
+        layer_files.write_tile(layers_dir, spec.x, spec.y, layers)
     return {
-        "layers": layers,
+        "layers": layers if spec.scale > 1 else None,
         "message": job_pb2.TileStreamMessage(tile=tile).SerializeToString(),
         "rays": rays,
         "samples": samples,

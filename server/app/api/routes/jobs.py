@@ -13,7 +13,8 @@ from rt import job_pb2
 
 from ...core.proto import json_body, json_response, parse
 from ...core.security import is_authorized
-from ...services.job_image import AUX_CHANNELS, heat_ramp_png
+from ...services.job_image import heat_ramp_png
+from ...services.layer_files import AUX_CHANNELS
 from ...services.jobs import JobError, JobManager, final_image_stream
 from ..deps import jobs, proto_json
 
