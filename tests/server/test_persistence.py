@@ -64,3 +64,17 @@ def test_sample_scenes_are_added_once(tmp_path, scenes_dir):
             scenes = {s["name"]: s for s in client.get("/api/scenes").json()["scenes"]}
             assert sorted(scenes) == ["cornell.obj", "teapot.glb"]
             assert scenes["cornell.obj"]["lights"] and not scenes["cornell.obj"]["warnings"]
+
+
+def test_images_of_jobs_saved_before_the_layer_files_are_still_served(tmp_path):
+    """A job done by an earlier version kept its layers in one layers.npz."""
+    import numpy as np
+    from app.services import layer_files
+    from app.services.job_image import output_file
+
+    color = np.random.default_rng(1).random((6, 8, 3), dtype=np.float32)
+    np.savez(tmp_path / layer_files.LEGACY_FILE, color=color, depth=np.ones((6, 8, 1), np.float32))
+    assert layer_files.names(tmp_path) == ["color", "depth"]
+    np.testing.assert_array_equal(layer_files.load(tmp_path, "color"), color)
+    assert output_file(tmp_path, "image.png", b"").is_file()
+    assert output_file(tmp_path, "depth.png", b"").is_file()

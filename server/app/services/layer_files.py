@@ -64,11 +64,21 @@ def complete(job_folder: Path) -> None:
     (job_folder / PARTIAL).replace(job_folder / COMPLETE)
 
 
+# Where jobs finished before the layer files kept their layers, all in one zip.
+LEGACY_FILE = "layers.npz"
+
+
 def names(job_folder: Path) -> list[str]:
     """The layers of a done job: "color" and its auxiliary outputs."""
+    if not (job_folder / COMPLETE).is_dir() and (job_folder / LEGACY_FILE).is_file():
+        with np.load(job_folder / LEGACY_FILE) as saved:
+            return sorted(saved.files)
     return sorted(p.stem for p in (job_folder / COMPLETE).glob("*.npy"))
 
 
 def load(job_folder: Path, name: str, folder: str = COMPLETE, writable: bool = False) -> np.ndarray:
     """One layer, (height, width, channels), memory-mapped."""
+    if folder == COMPLETE and not (job_folder / COMPLETE).is_dir() and (job_folder / LEGACY_FILE).is_file():
+        with np.load(job_folder / LEGACY_FILE) as saved:
+            return saved[name]
     return np.load(job_folder / folder / f"{name}.npy", mmap_mode="r+" if writable else "r")
