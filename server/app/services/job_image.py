@@ -68,7 +68,7 @@ def aux_preview(name: str, layer: np.ndarray) -> np.ndarray:
     return np.concatenate([rgb, np.full((h, w, 1), 255, np.uint8)], axis=2)
 
 
-def bloom(job_folder: Path, settings: bytes) -> bytes:
+def bloom_layers(job_folder: Path, settings: bytes) -> bytes:
     """Applies the bloom of `settings` (serialized) to a job's colour once every
     tile is in, in place; answers the result's RGBA8 pixels."""
     color = layer_files.load(job_folder, "color", layer_files.PARTIAL, writable=True)

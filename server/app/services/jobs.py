@@ -25,7 +25,7 @@ from ..core.config import Settings
 from ..core.proto import complete, fill_absent
 from . import layer_files
 from .cluster import RenderCluster
-from .job_image import bloom, output_file
+from .job_image import bloom_layers, output_file
 from .job_store import JobStore
 from .scene_store import SceneStore, StoredScene
 from .streams import TileStream
@@ -192,25 +192,26 @@ class JobManager:
         job.tiles_total = len(specs) + bloom
         total_pixels = sum(s.pixels for s in specs)
         folder = self.folder(job.id)
-        layers_dir = await asyncio.to_thread(layer_files.create, folder, request.settings.width,
-                                             request.settings.height, aux_names(request))
-        request_bytes = request.SerializeToString()
         run = secrets.token_hex(3)
-        args = (running.scene.sha256, str(running.scene.scene_file), request_bytes, job.id, str(layers_dir))
         futures: dict[str, TileSpec] = {}
-        keys: dict[TileSpec, str] = {}
-        tasks, priorities = {}, {}
-        for spec in specs:  # previews first: a tile's task names its preview's key, whose result it takes
-            key = keys[spec] = f"tile-{job.id}-{run}-{spec.pass_index}-{spec.x}-{spec.y}"
-            tasks[key] = (render_tile, *args, spec) + ((keys[spec.preview],) if spec.preview else ())
-            priorities[key] = spec.priority
-            futures[key] = spec
-            self._tiles[key] = (running, spec)
-        submitted = self._cluster.submit(f"job-{job.id}-{run}", tasks, priorities)
+        submitted = []
         pixels_done = camera_samples = 0
         last_saved = 0.0
         shutdown = False
         try:
+            layers_dir = await asyncio.to_thread(layer_files.create, folder, request.settings.width,
+                                                 request.settings.height, aux_names(request))
+            args = (running.scene.sha256, str(running.scene.scene_file), request.SerializeToString(), job.id,
+                    str(layers_dir))
+            keys: dict[TileSpec, str] = {}
+            tasks, priorities = {}, {}
+            for spec in specs:  # previews first: a tile's task names its preview's key, whose result it takes
+                key = keys[spec] = f"tile-{job.id}-{run}-{spec.pass_index}-{spec.x}-{spec.y}"
+                tasks[key] = (render_tile, *args, spec) + ((keys[spec.preview],) if spec.preview else ())
+                priorities[key] = spec.priority
+                futures[key] = spec
+                self._tiles[key] = (running, spec)
+            submitted = self._cluster.submit(f"job-{job.id}-{run}", tasks, priorities)
             async for future in as_completed(submitted):
                 spec = futures[future.key]
                 result = await future
@@ -240,7 +241,7 @@ class JobManager:
             if not shutdown:
                 shutil.rmtree(folder, ignore_errors=True)
                 self._end(job, job_pb2.CANCELLED, "cancelled by request")
-        except Exception as e:  # a tile failed: the job fails with the tile's reason
+        except Exception as e:  # a tile failed (or its files could not be made): the job fails with the reason
             log.exception("job %s failed", job.id)
             await client.cancel(submitted)
             shutil.rmtree(folder, ignore_errors=True)
@@ -262,7 +263,7 @@ class JobManager:
         once every tile is in; viewers receive the result as one last tile."""
         job = running.record
         settings = job.request.settings
-        rgba = await asyncio.to_thread(bloom, folder, settings.SerializeToString())
+        rgba = await asyncio.to_thread(bloom_layers, folder, settings.SerializeToString())
         region = job_pb2.TileRegion(**{"pass": pass_index}, x=0, y=0, w=settings.width, h=settings.height)
         tile = job_pb2.Tile(job=job.id, region=region, scale=1, pixels=rgba)
         await running.stream.publish(job_pb2.TileStreamMessage(tile=tile).SerializeToString())
