@@ -40,6 +40,12 @@ class TileSpec:
     def region(self) -> job_pb2.TileRegion:
         return job_pb2.TileRegion(**{"pass": self.pass_index}, x=self.x, y=self.y, w=self.w, h=self.h)
 
+    def preview_window(self) -> tuple[slice, slice]:
+        """Rows and columns of the preview's layers that hold this tile's pixels on its grid."""
+        s = self.preview.scale
+        j, i = (self.y - self.preview.y) // s, (self.x - self.preview.x) // s
+        return slice(j, j + _blocks(self.h, s)), slice(i, i + _blocks(self.w, s))
+
     @property
     def pixels(self) -> int:
         """The pixels this tile traces: one per scale x scale block, less those its preview traced."""

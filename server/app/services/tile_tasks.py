@@ -52,9 +52,8 @@ def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, job_id: 
     known, stride = None, 0
     if spec.preview is not None and preview is not None:
         stride = spec.preview.scale
-        i, j = (spec.x - spec.preview.x) // stride, (spec.y - spec.preview.y) // stride
-        w, h = -(-spec.w // stride), -(-spec.h // stride)
-        known = {name: np.ascontiguousarray(layer[j:j + h, i:i + w]) for name, layer in preview["layers"].items()}
+        window = spec.preview_window()
+        known = {name: np.ascontiguousarray(layer[window]) for name, layer in preview["layers"].items()}
     # With aux given (even empty) rtcore answers a dict that also counts the rays.
     layers = scene.render_tile(camera, settings, spec.x, spec.y, spec.w, spec.h, scale=spec.scale,
                                aux=aux_names(request), known=known, known_stride=stride)
