@@ -311,7 +311,9 @@ int run(const Options& options) {
     const auto bloom_start = std::chrono::steady_clock::now();
     rt::apply_bloom(image, renderer.settings());
     const double bloom_ms = milliseconds_since(bloom_start);
+    const auto write_start = std::chrono::steady_clock::now();
     rt::write_image(options.output, image, &aux, rt::DisplayTransform::from(renderer.settings()));
+    const double write_ms = milliseconds_since(write_start);
 
     const auto& stats = accel.stats();
     std::printf("rtrender: %zu triangles, %zu spheres, BVH %zu nodes depth %u, build %.1f ms, "
@@ -321,6 +323,7 @@ int run(const Options& options) {
                 static_cast<unsigned long long>(counts.rays.total()),
                 double(counts.samples) / (double(image.width) * image.height), options.output.c_str());
     if (renderer.settings().bloom_strength() > 0.0f) std::printf("rtrender: bloom %.1f ms\n", bloom_ms);
+    std::printf("rtrender: write %.1f ms\n", write_ms);
     return 0;
 }
 

@@ -232,6 +232,7 @@ def test_bloom_moves_light_in_the_exr_and_changes_the_png(rtrender, scenes_dir, 
             result = run(rtrender, scene, "-o", tmp_path / f"{name}.{extension}", *common, *flags)
             assert result.returncode == 0, result.stderr
             assert ("rtrender: bloom " in result.stdout) == (name == "bloom"), result.stdout
+            assert re.search(r"^rtrender: write [\d.]+ ms$", result.stdout, re.M), result.stdout
     plain, bloomed = read_exr_colour(tmp_path / "plain.exr"), read_exr_colour(tmp_path / "bloom.exr")
     assert plain.shape == (48, 64, 3) and plain.max() > 0.3
     assert np.abs(bloomed - plain).max() > 0.01, "the glow shows in the linear image"
