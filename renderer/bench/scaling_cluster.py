@@ -98,7 +98,7 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
 
     from app.services import layer_files
     from app.services.cluster import RenderWorkerSetup
-    from app.services.tile_plan import TileSpec, plan_passes
+    from app.services.tile_plan import TileSpec, grid_size, plan_passes
     from app.services.tile_tasks import render_tile
 
     scene = rtcore.Scene.load(str(scene_path))
@@ -112,7 +112,7 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
 
     # The tasks write their layers, as the service's do.
     scratch = tempfile.TemporaryDirectory(prefix="rt-scaling-")
-    layers = str(layer_files.create(Path(scratch.name), size, size, []))
+    layers = ""
 
     def run_image(client, tiles) -> list[dict]:
         futures = [client.submit(render_tile, scene_key, str(scene_path), request, "bench", layers, t, pure=False)
@@ -129,6 +129,7 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
     for n in (1, 2):
         # The service's full-resolution pass for n threads, in its centre-out order.
         tiles = plan_passes(size, size, n, interactive=False)[-1]
+        layers = str(layer_files.create(Path(scratch.name), size, size, grid_size(tiles), []))
         with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
                 Client(cluster) as client:
             client.register_plugin(RenderWorkerSetup())  # as the service does: one render thread per Dask thread

@@ -10,6 +10,7 @@ import pytest
 import rtcore
 from PIL import Image
 from google.protobuf import json_format
+from app.services import layer_files
 from rt import job_pb2
 
 from stream_reader import assemble, read_stream, wait_for
@@ -68,8 +69,8 @@ def test_a_job_is_done_once_its_layers_are_saved_and_images_are_made_when_asked(
     wait_for(client, job["id"])
     folder = client.app.state.settings.jobs_dir / job["id"]
     assert sorted(p.name for p in folder.iterdir()) == ["layers"]
-    assert sorted(p.name for p in (folder / "layers").iterdir()) == ["color.npy"]
-    color = np.load(folder / "layers" / "color.npy")
+    assert sorted(p.name for p in (folder / "layers").iterdir()) == ["color.npy", "layout.json"]
+    color = layer_files.load(folder, "color")
     first = client.get(f"/api/jobs/{job['id']}/image.png").content
     assert (folder / "image.png").is_file() and not (folder / "image.exr").exists()
     assert client.get(f"/api/jobs/{job['id']}/image.png").content == first, "kept, not made again"
@@ -95,7 +96,7 @@ def test_bloom_is_one_last_tile_over_the_whole_image_and_moves_light_without_add
     wait_for(client, plain["id"])
     layers = {}
     for job in (plain, bloomed):
-        layers[job["id"]] = np.load(client.app.state.settings.jobs_dir / job["id"] / "layers" / "color.npy").astype(np.float64)
+        layers[job["id"]] = layer_files.load(client.app.state.settings.jobs_dir / job["id"], "color").astype(np.float64)
     before, after = layers[plain["id"]], layers[bloomed["id"]]
     assert np.abs(after - before).max() > 0.01, "bloom changed the image"
     assert after.sum() == pytest.approx(before.sum(), rel=1e-5), "bloom moves light, it adds none"
@@ -227,9 +228,9 @@ def test_pixels_the_preview_traced_are_not_traced_again(client, cornell_id, scen
                                   0, 0, 320, 240, aux=["depth", "bvh_cost"])
     assert int(job["rays"]) == reference["rays"]
     assert job["mean_samples_per_pixel"] == pytest.approx(reference["samples"] / (320 * 240), rel=1e-6)
-    layers = client.app.state.settings.jobs_dir / job["id"] / "layers"
+    folder = client.app.state.settings.jobs_dir / job["id"]
     for name in ("color", "depth", "bvh_cost"):
-        saved = np.load(layers / f"{name}.npy")
+        saved = layer_files.load(folder, name)
         np.testing.assert_array_equal(saved.reshape(reference[name].shape), reference[name], err_msg=name)
 
 

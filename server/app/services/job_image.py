@@ -71,10 +71,9 @@ def aux_preview(name: str, layer: np.ndarray) -> np.ndarray:
 def bloom_layers(job_folder: Path, settings: bytes) -> bytes:
     """Applies the bloom of `settings` (serialized) to a job's colour once every
     tile is in, in place; answers the result's RGBA8 pixels."""
-    color = layer_files.load(job_folder, "color", layer_files.PARTIAL, writable=True)
+    color = layer_files.load(job_folder, "color", layer_files.PARTIAL)
     bloomed = rtcore.apply_bloom(np.ascontiguousarray(color), settings)
-    color[...] = bloomed
-    color.flush()
+    layer_files.replace(job_folder, "color", bloomed)
     return rgba8(bloomed, settings).tobytes()
 
 

@@ -29,7 +29,7 @@ from .job_image import bloom_layers, output_file
 from .job_store import JobStore
 from .scene_store import SceneStore, StoredScene
 from .streams import TileStream
-from .tile_plan import TileSpec, plan_passes
+from .tile_plan import TileSpec, grid_size, plan_passes
 from .tile_tasks import TILE_STARTED_TOPIC, aux_names, render_tile
 
 log = logging.getLogger("rt.jobs")
@@ -200,7 +200,7 @@ class JobManager:
         shutdown = False
         try:
             layers_dir = await asyncio.to_thread(layer_files.create, folder, request.settings.width,
-                                                 request.settings.height, aux_names(request))
+                                                 request.settings.height, grid_size(passes[-1]), aux_names(request))
             args = (running.scene.sha256, str(running.scene.scene_file), request.SerializeToString(), job.id,
                     str(layers_dir))
             keys: dict[TileSpec, str] = {}

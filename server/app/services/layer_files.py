@@ -1,5 +1,9 @@
 """A job's linear layers on disk: one .npy file per layer (colour, then each
-auxiliary output asked for), full image size, float32, in the job's folder.
+auxiliary output asked for), float32, in the job's folder, stored tile by
+tile: (tile rows, tile columns, tile, tile, channels), so that a tile is one
+contiguous write (row by row, its 3 KB writes cost 16-21 ms of CPU per
+1024x1024 image; as whole blocks, 3-4 ms). layout.json gives the image size;
+load() answers a layer as an image.
 
 Workers write their tiles straight into these files: a tile's floats go from
 the renderer's buffer to the file in one copy, and neither Dask nor the
@@ -16,6 +20,7 @@ holds a whole image, which a restart can rely on.
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 from pathlib import Path
@@ -24,40 +29,40 @@ import numpy as np
 
 PARTIAL = "part.layers"
 COMPLETE = "layers"
+LAYOUT = "layout.json"
 
 # Channels of each auxiliary layer, as rtcore.render_tile returns them.
 AUX_CHANNELS = {"depth": 1, "normal": 3, "albedo": 3, "bvh_cost": 2}
 
 
-def create(job_folder: Path, width: int, height: int, aux: list[str]) -> Path:
-    """Empty (sparse) layer files for a job about to render; their folder."""
+def create(job_folder: Path, width: int, height: int, tile: int, aux: list[str]) -> Path:
+    """Empty (sparse) layer files for a job about to render, for tiles on a
+    grid of `tile` pixels; their folder."""
     folder = job_folder / PARTIAL
     for stale in (folder, job_folder / COMPLETE):  # of a run the server restarted
         shutil.rmtree(stale, ignore_errors=True)
     folder.mkdir(parents=True)
+    (folder / LAYOUT).write_text(json.dumps({"width": width, "height": height}))
     for name, channels in {"color": 3, **{a: AUX_CHANNELS[a] for a in aux}}.items():
         with open(folder / f"{name}.npy", "wb") as f:
+            shape = (-(-height // tile), -(-width // tile), tile, tile, channels)
             header = {"descr": np.lib.format.dtype_to_descr(np.dtype(np.float32)), "fortran_order": False,
-                      "shape": (height, width, channels)}
+                      "shape": shape}
             np.lib.format.write_array_header_1_0(f, header)
-            f.truncate(f.tell() + height * width * channels * 4)  # zeros, written by no one
+            f.truncate(f.tell() + int(np.prod(shape)) * 4)  # zeros, written by no one
     return folder
 
 
 def write_tile(folder: str | Path, x: int, y: int, layers: dict[str, np.ndarray]) -> None:
-    """Writes a full-resolution tile's layers at (x, y) into the files of `folder`,
-    row by row: positioned writes cost a third less than the page faults of
-    writing through a memory map."""
+    """Writes a full-resolution tile's layers at (x, y), each as one block."""
     for name, values in layers.items():
         with open(Path(folder) / f"{name}.npy", "r+b") as f:
             np.lib.format.read_magic(f)
-            (height, width, channels), _, _ = np.lib.format.read_array_header_1_0(f)
-            start = f.tell()
+            (_, columns, tile, _, channels), _, _ = np.lib.format.read_array_header_1_0(f)
             h, w = values.shape[:2]
-            rows = np.ascontiguousarray(values.reshape(h, w, channels), dtype=np.float32)
-            row_bytes = width * channels * 4
-            for j in range(h):
-                os.pwrite(f.fileno(), rows[j], start + (y + j) * row_bytes + x * channels * 4)
+            block = np.zeros((tile, tile, channels), np.float32)
+            block[:h, :w] = values.reshape(h, w, channels)  # an edge tile fills the top left of its block
+            os.pwrite(f.fileno(), block, f.tell() + ((y // tile) * columns + x // tile) * block.nbytes)
 
 
 def complete(job_folder: Path) -> None:
@@ -76,9 +81,23 @@ def names(job_folder: Path) -> list[str]:
     return sorted(p.stem for p in (job_folder / COMPLETE).glob("*.npy"))
 
 
-def load(job_folder: Path, name: str, folder: str = COMPLETE, writable: bool = False) -> np.ndarray:
-    """One layer, (height, width, channels), memory-mapped."""
+def load(job_folder: Path, name: str, folder: str = COMPLETE) -> np.ndarray:
+    """One layer as an image, (height, width, channels)."""
     if folder == COMPLETE and not (job_folder / COMPLETE).is_dir() and (job_folder / LEGACY_FILE).is_file():
         with np.load(job_folder / LEGACY_FILE) as saved:
             return saved[name]
-    return np.load(job_folder / folder / f"{name}.npy", mmap_mode="r+" if writable else "r")
+    size = json.loads((job_folder / folder / LAYOUT).read_text())
+    blocks = np.load(job_folder / folder / f"{name}.npy", mmap_mode="r")
+    rows, columns, tile, _, channels = blocks.shape
+    image = blocks.transpose(0, 2, 1, 3, 4).reshape(rows * tile, columns * tile, channels)
+    return image[:size["height"], :size["width"]]
+
+
+def replace(job_folder: Path, name: str, image: np.ndarray, folder: str = PARTIAL) -> None:
+    """Writes a whole layer (bloom's result) over the one in the files."""
+    blocks = np.load(job_folder / folder / f"{name}.npy", mmap_mode="r+")
+    rows, columns, tile, _, channels = blocks.shape
+    padded = np.zeros((rows * tile, columns * tile, channels), np.float32)
+    padded[:image.shape[0], :image.shape[1]] = image.reshape(image.shape[0], image.shape[1], channels)
+    blocks[...] = padded.reshape(rows, tile, columns, tile, channels).transpose(0, 2, 1, 3, 4)
+    blocks.flush()

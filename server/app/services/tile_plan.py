@@ -90,3 +90,8 @@ def plan_passes(width: int, height: int, threads: int, interactive: bool) -> lis
                             previews.get((x - x % PREVIEW_TILE, y - y % PREVIEW_TILE)))
                    for i, (x, y, w, h) in enumerate(_grid(width, height, size))])
     return passes
+
+
+def grid_size(tiles: list[TileSpec]) -> int:
+    """The edge of the grid a pass's tiles start on: its largest tile's."""
+    return max(max(t.w, t.h) for t in tiles)
