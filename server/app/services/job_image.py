@@ -82,9 +82,10 @@ def output_file(folder: Path, filename: str, settings: bytes) -> Path:
     linear) or <layer>.png, made from its layer files the first time it is
     asked for and kept. Encoding them (zip for the EXR, zlib for PNGs) costs
     more than the render's own writing, and many jobs never need most of them,
-    so a job is done once its layers are complete. `settings` (the job's, serialized) give image.png its
-    exposure and tone map. Callers serialize calls for one folder. Raises
-    FileNotFoundError when the job has no such layer."""
+    so a job is done once its layers are complete. `settings` (the job's,
+    serialized) give image.png its exposure and tone map. Callers serialize
+    calls for one folder. Raises FileNotFoundError when the job has no such
+    layer."""
     path = folder / filename
     if path.is_file():
         return path

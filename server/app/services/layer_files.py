@@ -73,18 +73,24 @@ def complete(job_folder: Path) -> None:
 LEGACY_FILE = "layers.npz"
 
 
+def _legacy(job_folder: Path) -> Path | None:
+    """The layers.npz of a job finished before the layer files, if that is what it has."""
+    legacy = job_folder / LEGACY_FILE
+    return legacy if not (job_folder / COMPLETE).is_dir() and legacy.is_file() else None
+
+
 def names(job_folder: Path) -> list[str]:
     """The layers of a done job: "color" and its auxiliary outputs."""
-    if not (job_folder / COMPLETE).is_dir() and (job_folder / LEGACY_FILE).is_file():
-        with np.load(job_folder / LEGACY_FILE) as saved:
+    if legacy := _legacy(job_folder):
+        with np.load(legacy) as saved:
             return sorted(saved.files)
     return sorted(p.stem for p in (job_folder / COMPLETE).glob("*.npy"))
 
 
 def load(job_folder: Path, name: str, folder: str = COMPLETE) -> np.ndarray:
     """One layer as an image, (height, width, channels)."""
-    if folder == COMPLETE and not (job_folder / COMPLETE).is_dir() and (job_folder / LEGACY_FILE).is_file():
-        with np.load(job_folder / LEGACY_FILE) as saved:
+    if folder == COMPLETE and (legacy := _legacy(job_folder)):
+        with np.load(legacy) as saved:
             return saved[name]
     size = json.loads((job_folder / folder / LAYOUT).read_text())
     blocks = np.load(job_folder / folder / f"{name}.npy", mmap_mode="r")

@@ -4,10 +4,10 @@ A large image first gets a preview pass (one pixel per 8x8 block, cheap) so the
 viewer shows the whole picture at once; the full-resolution pass then refines
 it. A preview pixel is final (the full render computes it the same way), so
 each full-resolution tile takes its preview's pixels instead of tracing them
-again: the preview costs nothing. Tiles run centre-out, where the subject usually is. Priorities make the
-cluster fair: an interactive job outranks batch jobs, any job's preview outranks
-full-resolution tiles, and tiles of equal rank from different jobs interleave
-instead of one job waiting for another to finish.
+again: the preview costs nothing. Tiles run centre-out, where the subject
+usually is. Priorities make the cluster fair: an interactive job outranks batch
+jobs, any job's preview outranks full-resolution tiles, and tiles of equal rank
+from different jobs interleave instead of one job waiting for another to finish.
 """
 
 from __future__ import annotations
