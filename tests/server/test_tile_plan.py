@@ -1,8 +1,12 @@
-"""How a job is cut into tiles: passes, coverage, and the preview's pixels reused."""
+"""How a job is cut into tiles: passes, coverage, the preview's pixels reused,
+and tile sizes that follow the work per pixel."""
 
 import pytest
 
-from app.services.tile_plan import PREVIEW_MIN_PIXELS, PREVIEW_SCALE, plan_passes
+from rt import job_pb2, render_pb2
+
+from app.services.tile_plan import (PREVIEW_MIN_PIXELS, PREVIEW_SCALE, TILE_RAYS, TILE_SIZES, TILES_PER_THREAD,
+                                     plan_passes, rays_per_pixel)
 
 
 @pytest.mark.parametrize("width, height, threads", [(1024, 1024, 2), (1600, 1200, 8), (300, 240, 2),
@@ -38,3 +42,36 @@ def test_an_interactive_job_outranks_a_batch_job_and_previews_outrank_full_tiles
     interactive = plan_passes(1024, 768, 2, interactive=True)
     assert min(t.priority for p in interactive for t in p) > max(t.priority for p in batch for t in p)
     assert min(t.priority for t in batch[0]) > max(t.priority for t in batch[1])
+
+
+@pytest.mark.parametrize("pixel_rays", [1, 2, 17, 64 * 17, 1e9])
+@pytest.mark.parametrize("width, height, threads", [(1024, 1024, 2), (1920, 1080, 4), (640, 480, 2)])
+def test_tiles_keep_every_thread_busy_within_the_ray_budget(width, height, threads, pixel_rays):
+    full = plan_passes(width, height, threads, interactive=False, pixel_rays=pixel_rays)[-1]
+    size = max(t.w for t in full)
+    smallest = size == TILE_SIZES[-1]
+    assert size * size * pixel_rays <= TILE_RAYS or smallest
+    assert len(full) >= TILES_PER_THREAD * threads or smallest
+    # and no larger tile would do both
+    larger = [s for s in TILE_SIZES if s > size]
+    assert all(s * s * pixel_rays > TILE_RAYS or -(-width // s) * -(-height // s) < TILES_PER_THREAD * threads
+               for s in larger)
+
+
+def test_a_cheap_image_gets_few_large_tiles_and_an_expensive_one_small_tiles():
+    cheap = plan_passes(1024, 1024, 2, interactive=False, pixel_rays=2)[-1]
+    assert {(t.w, t.h) for t in cheap} == {(512, 512)} and len(cheap) == 4
+    costly = plan_passes(1024, 1024, 2, interactive=False, pixel_rays=64 * 17)[-1]
+    assert max(t.w for t in costly) <= 32
+
+
+def test_rays_per_pixel_counts_camera_samples_frames_and_shadow_rays():
+    point = job_pb2.SceneInfo().lights.add(position=[0, 1, 0])
+    sphere = job_pb2.SceneInfo().lights.add(position=[0, 1, 0], radius=0.1)
+    settings = render_pb2.RenderSettings(samples_per_pixel=4, light_samples=16)
+    assert rays_per_pixel(settings, []) == 4
+    assert rays_per_pixel(settings, [point]) == 4 * 2
+    assert rays_per_pixel(settings, [point, sphere]) == 4 * (1 + 1 + 16)
+    settings.motion_blur = render_pb2.FRAMES
+    settings.motion_frames = 8
+    assert rays_per_pixel(settings, [sphere]) == 4 * 8 * 17

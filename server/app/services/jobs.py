@@ -3,8 +3,8 @@ job record, the tile stream and the finished images.
 
 Each tile is one Dask task (tile_tasks.render_tile), which writes its pixels
 into the job's layer files. The server keeps the job's record, forwards each
-tile to the job's viewers as it comes back, and persists the record so a
-restart can pick the job up again from the start.
+tile to the job's viewers as it comes back, and persists the record at each
+change of state, so that a restart can pick the job up again from the start.
 """
 
 from __future__ import annotations
@@ -29,12 +29,11 @@ from .job_image import bloom_layers, output_file
 from .job_store import JobStore
 from .scene_store import SceneStore, StoredScene
 from .streams import TileStream
-from .tile_plan import TileSpec, grid_size, plan_passes
+from .tile_plan import TileSpec, grid_size, plan_passes, rays_per_pixel
 from .tile_tasks import TILE_STARTED_TOPIC, aux_names, render_tile
 
 log = logging.getLogger("rt.jobs")
 
-PERSIST_EVERY_SECONDS = 0.5
 FINAL_STATES = (job_pb2.DONE, job_pb2.FAILED, job_pb2.CANCELLED)
 
 
@@ -185,7 +184,7 @@ class JobManager:
         request = job.request
         client = self._cluster.client
         passes = plan_passes(request.settings.width, request.settings.height, self._cluster.total_threads(),
-                             request.interactive)
+                             request.interactive, rays_per_pixel(request.settings, running.scene.info.lights))
         specs = [spec for tiles in passes for spec in tiles]
         bloom = request.settings.bloom_strength > 0
         job.passes = len(passes) + bloom
@@ -196,7 +195,6 @@ class JobManager:
         futures: dict[str, TileSpec] = {}
         submitted = []
         pixels_done = camera_samples = 0
-        last_saved = 0.0
         shutdown = False
         try:
             layers_dir = await asyncio.to_thread(layer_files.create, folder, request.settings.width,
@@ -219,6 +217,8 @@ class JobManager:
                 if job.state == job_pb2.QUEUED:
                     job.state = job_pb2.RUNNING
                     job.started_at = result["started"]
+                    # The store keeps states, not progress: a restart runs a job again from the start.
+                    self._store.save(job)
                 await running.stream.publish(result["message"])
                 job.tiles_done += 1
                 # Previews count too: their pixels are part of the image.
@@ -228,9 +228,6 @@ class JobManager:
                 job.mean_samples_per_pixel = camera_samples / pixels_done
                 job.render_seconds += result["seconds"]
                 job.rays += result["rays"]
-                if time.monotonic() - last_saved > PERSIST_EVERY_SECONDS:
-                    self._store.save(job)
-                    last_saved = time.monotonic()
             if bloom:
                 await self._bloom(running, folder, len(passes))
             layer_files.complete(folder)
