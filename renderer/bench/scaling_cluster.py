@@ -51,11 +51,12 @@ class Throughput:
     serial_s: float              # s0
     serial_s_per_byte: float     # b
     latency_s: float             # L
+    pixel_rays: float            # the service's estimate of a pixel's rays (tile_plan.rays_per_pixel)
 
     def tiles(self, workers: int) -> tuple[int, int]:
         """(tile side, tiles) the service cuts the image into for `workers` threads."""
         from app.services.tile_plan import full_tile_size
-        side = full_tile_size(self.size, self.size, workers)
+        side = full_tile_size(self.size, self.size, workers, self.pixel_rays)
         return side, math.ceil(self.size / side) ** 2
 
     def projected(self, workers: int, side: int | None = None) -> float:
@@ -68,8 +69,8 @@ class Throughput:
                                     tiles * serial)
 
     def best_side(self, workers: int) -> int:
-        """The tile side of the service's sizes (or 512) that the model says is fastest."""
-        return min((512, *TILE_SIZES), key=lambda side: self.projected(workers, side))
+        """The tile side of the service's sizes that the model says is fastest."""
+        return min(TILE_SIZES, key=lambda side: self.projected(workers, side))
 
 
 def _noop_tile(nbytes: int) -> bytes:
@@ -94,11 +95,11 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
     os.environ["PYTHONPATH"] = os.pathsep.join(
         [str(ROOT / "server"), str(Path(rtcore.__file__).parent)] + [p for p in sys.path if p])
     from distributed import Client, LocalCluster, wait
-    from rt import job_pb2, render_pb2
+    from rt import job_pb2, render_pb2, scene_pb2
 
     from app.services import layer_files
     from app.services.cluster import RenderWorkerSetup
-    from app.services.tile_plan import TileSpec, grid_size, plan_passes
+    from app.services.tile_plan import TileSpec, grid_size, plan_passes, rays_per_pixel
     from app.services.tile_tasks import render_tile
 
     scene = rtcore.Scene.load(str(scene_path))
@@ -109,13 +110,15 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
     threads = {n: median_time(lambda n=n: scene.render(camera, settings.SerializeToString(), n, 32), repeats)
                for n in (1, 2)}
     scene_key = f"scaling-{scene_path.name}"
+    pixel_rays = rays_per_pixel(settings, [scene_pb2.LightSpec(radius=light["radius"]) for light in scene.lights])
 
     # The tasks write their layers, as the service's do.
     scratch = tempfile.TemporaryDirectory(prefix="rt-scaling-")
     layers = ""
 
     def run_image(client, tiles) -> list[dict]:
-        futures = [client.submit(render_tile, scene_key, str(scene_path), request, "bench", layers, t, pure=False)
+        futures = [client.submit(render_tile, scene_key, str(scene_path), request, "bench", "bench", layers, t,
+                                 pure=False)
                    for t in tiles]
         wait(futures)
         return client.gather(futures)
@@ -128,7 +131,7 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
     workers = {}
     for n in (1, 2):
         # The service's full-resolution pass for n threads, in its centre-out order.
-        tiles = plan_passes(size, size, n, interactive=False)[-1]
+        tiles = plan_passes(size, size, n, interactive=False, pixel_rays=pixel_rays)[-1]
         layers = str(layer_files.create(Path(scratch.name), size, size, grid_size(tiles), []))
         with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
                 Client(cluster) as client:
@@ -145,7 +148,7 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
     scratch.cleanup()
     return Throughput(scene=scene_path.name, size=size, threads=threads, workers=workers, pixel_s=pixel_s,
                       task_overhead_s=overhead, serial_s=max(0.0, small - per_byte * 32 * 32 * RESULT_BYTES_PER_PIXEL),
-                      serial_s_per_byte=per_byte, latency_s=latency)
+                      serial_s_per_byte=per_byte, latency_s=latency, pixel_rays=pixel_rays)
 
 
 def pixels_per_second(t: Throughput, seconds: float) -> float:

@@ -6,6 +6,7 @@
 // This file names things for Python; rtcore_scene.h is the Scene class behind them.
 #include <memory>
 #include <stdexcept>
+#include <stop_token>
 #include <string>
 
 #include <nanobind/nanobind.h>
@@ -16,6 +17,7 @@
 
 #include "loader.h"
 #include "proto_limits.h"
+#include "render.h"
 #include "rt/job.pb.h"
 #include "rtcore_image.h"
 #include "rtcore_scene.h"
@@ -56,6 +58,14 @@ NB_MODULE(rtcore, m) {
         }
     });
 
+    nb::exception<rt::RenderStopped>(m, "RenderStopped", PyExc_RuntimeError);
+    nb::class_<std::stop_source>(m, "StopSource",
+                                 "Asks renders to stop: Scene.render_tile(..., stop=source) raises RenderStopped "
+                                 "once request_stop() is called, from any thread, starting no further pixel.")
+        .def(nb::init<>())
+        .def("request_stop", &std::stop_source::request_stop, "True for the call that made the request.")
+        .def_prop_ro("stop_requested", &std::stop_source::stop_requested);
+
     m.def("parse_message", &parse_message, "type_name"_a, "json"_a, "path"_a = "body",
           "Parses the JSON form of an rt message (e.g. 'rt.JobRequest'), fills the schema's defaults and "
           "checks its limits: the serialized message, or ValueError naming the field.");
@@ -86,6 +96,7 @@ NB_MODULE(rtcore, m) {
              "Raises ValueError naming what the renderer refuses in the camera or settings; renders nothing.")
         .def("render_tile", &PyScene::render_tile, "camera"_a, "settings"_a, "x"_a, "y"_a, "width"_a, "height"_a,
              nb::kw_only(), "aux"_a = nb::none(), "scale"_a = 1, "known"_a = nb::none(), "known_stride"_a = 0,
+             "stop"_a = nb::none(),
              "Renders one tile on the render pool's threads (set_render_threads), the GIL released: float32 array "
              "(height, width, 3), linear RGB. Tiles rendered at once from several threads share the pool, the "
              "oldest first.\n\n"
@@ -98,7 +109,8 @@ NB_MODULE(rtcore, m) {
              "taken (samples_per_pixel per pixel, fewer where adaptive sampling stopped early).\n"
              "known={'color': ..., <each aux layer>: ...} with known_stride=s: a preview at scale s of this tile "
              "(the tile starting on its grid) already computed the pixels whose x and y are multiples of s; they are "
-             "placed, not traced again, and the counts cover the pixels traced.")
+             "placed, not traced again, and the counts cover the pixels traced.\n"
+             "stop=StopSource: once its stop is requested, no further pixel starts and RenderStopped is raised.")
         .def("render", &PyScene::render, "camera"_a, "settings"_a, "threads"_a = 0, "tile_size"_a = 32,
              "Renders the whole image on `threads` threads: float32 array (height, width, 3), linear RGB.")
         .def("intersect", &PyScene::intersect, "origins"_a, "directions"_a, "t_max"_a = nb::none(),

@@ -75,7 +75,7 @@ void place_known(nb::handle known, uint32_t stride, const rt::TileRect& tile, st
 
 nb::object PyScene::render_tile(nb::handle camera, nb::handle settings, uint32_t x, uint32_t y, uint32_t width,
                                 uint32_t height, nb::handle aux, uint32_t scale, nb::handle known,
-                                uint32_t known_stride) const {
+                                uint32_t known_stride, const std::stop_source* stop) const {
     const rt::Renderer renderer(*accel_, read_message<rt::RenderSettings>(settings, "settings"),
                                 read_message<rt::Camera>(camera, "camera"));
     const rt::TileRect tile{x, y, width, height};
@@ -98,7 +98,7 @@ nb::object PyScene::render_tile(nb::handle camera, nb::handle settings, uint32_t
     {
         nb::gil_scoped_release release;
         stats = renderer.render_tile(*rt::render_pool(), tile, rgb.data(), layers.layers(), scale,
-                                     known.is_none() ? 0 : known_stride);
+                                     known.is_none() ? 0 : known_stride, stop ? stop->get_token() : std::stop_token{});
     }
     auto color = to_numpy(std::move(rgb), {h, w, 3});
     if (aux.is_none()) return nb::cast(color);

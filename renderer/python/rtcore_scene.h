@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <stop_token>
 #include <string>
 #include <utility>
 #include <vector>
@@ -47,9 +48,10 @@ class PyScene {
     // a dict of the colour, the layers asked for and the rays traced.
     // `known` (with `known_stride`): the layers a preview computed for this
     // tile's pixels on its grid, which are then not traced again.
+    // Once `stop` (if any) is requested, throws rt::RenderStopped.
     nb::object render_tile(nb::handle camera, nb::handle settings, uint32_t x, uint32_t y, uint32_t width,
                            uint32_t height, nb::handle aux, uint32_t scale, nb::handle known,
-                           uint32_t known_stride) const;
+                           uint32_t known_stride, const std::stop_source* stop) const;
     nb::ndarray<nb::numpy, float> render(nb::handle camera, nb::handle settings, unsigned threads,
                                          uint32_t tile_size) const;
     nb::bytes debug_path(nb::handle camera, nb::handle settings, uint32_t x, uint32_t y) const;

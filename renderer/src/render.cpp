@@ -98,7 +98,7 @@ RenderStats Renderer::render_tile(const TileRect& tile, float* rgb, const AuxLay
 }
 
 RenderStats Renderer::render_tile(ThreadPool& pool, const TileRect& tile, float* rgb, const AuxLayers& aux,
-                                  uint32_t scale, uint32_t known_stride) const {
+                                  uint32_t scale, uint32_t known_stride, std::stop_token stop) const {
     check_tile(tile, scale);
     if (known_stride != 0 && scale != 1)
         throw std::invalid_argument("known pixels (stride " + std::to_string(known_stride) +
@@ -111,7 +111,7 @@ RenderStats Renderer::render_tile(ThreadPool& pool, const TileRect& tile, float*
         const TileRect rect{tile.x, tile.y + first_row * scale, tile.width,
                             std::min(tile.height - first_row * scale, kCacheBlock * scale)};
         const size_t first = size_t(first_row) * columns;
-        band_stats[band] = render_pixels(rect, scale, rgb + first * 3, aux.from(first), columns, known_stride);
+        band_stats[band] = render_pixels(rect, scale, rgb + first * 3, aux.from(first), columns, known_stride, stop);
     });
     RenderStats stats;
     for (const RenderStats& s : band_stats) stats += s;
@@ -119,7 +119,7 @@ RenderStats Renderer::render_tile(ThreadPool& pool, const TileRect& tile, float*
 }
 
 RenderStats Renderer::render_pixels(const TileRect& tile, uint32_t scale, float* rgb, const AuxLayers& aux,
-                                    size_t row_pixels, uint32_t known_stride) const {
+                                    size_t row_pixels, uint32_t known_stride, const std::stop_token& stop) const {
     RenderStats stats;
     const uint32_t rows = preview_extent(tile.height, scale), columns = preview_extent(tile.width, scale);
     // Neighbouring rays visit mostly the same BVH nodes; walking a large tile
@@ -133,6 +133,8 @@ RenderStats Renderer::render_pixels(const TileRect& tile, uint32_t scale, float*
                 for (uint32_t i = block_x; i < std::min(columns, block_x + kCacheBlock); ++i) {
                     const uint32_t x = tile.x + i * scale;
                     if (known_row && x % known_stride == 0) continue;
+                    // Per pixel: one pixel at many samples can take a second.
+                    if (stop.stop_requested()) throw RenderStopped();
                     const size_t index = j * row_pixels + i;
                     const vec3 c = render_pixel(x, y, index, aux, stats);
                     float* out = rgb + index * 3;

@@ -13,6 +13,8 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <stdexcept>
+#include <stop_token>
 
 #include "accel.h"
 #include "aov.h"
@@ -46,6 +48,12 @@ struct RenderStats {
     }
 };
 
+// Thrown by render_tile when its stop token asks it to stop: the tile's
+// buffers then hold some pixels and not others, and must not be used.
+struct RenderStopped : std::runtime_error {
+    RenderStopped() : std::runtime_error("the render was asked to stop") {}
+};
+
 // Called as tiles finish, with (tiles done, tiles total); never concurrently.
 using ProgressCallback = std::function<void(size_t, size_t)>;
 
@@ -74,8 +82,10 @@ class Renderer {
     // both multiples of s already hold their final values in `rgb` and `aux`
     // (a preview at scale s computed them exactly as this render would) and
     // are not traced again; the counts are those of the pixels traced.
+    // Once `stop` is requested, no pixel starts and RenderStopped is thrown:
+    // a cancelled job frees the cores within a pixel's time.
     RenderStats render_tile(ThreadPool& pool, const TileRect& tile, float* rgb, const AuxLayers& aux = {},
-                            uint32_t scale = 1, uint32_t known_stride = 0) const;
+                            uint32_t scale = 1, uint32_t known_stride = 0, std::stop_token stop = {}) const;
 
     // The whole image on `threads` threads (0: all cores) in square tiles, and
     // the layers `aux` holds, when given (it must have the image's size).
@@ -90,7 +100,7 @@ class Renderer {
   private:
     // render_tile without the checks, writing output row j at pixel j * row_pixels.
     RenderStats render_pixels(const TileRect& tile, uint32_t scale, float* rgb, const AuxLayers& aux,
-                              size_t row_pixels, uint32_t known_stride = 0) const;
+                              size_t row_pixels, uint32_t known_stride = 0, const std::stop_token& stop = {}) const;
     // Pixel (x, y), its outputs stored at `index` of `aux`.
     vec3 render_pixel(uint32_t x, uint32_t y, size_t index, const AuxLayers& aux, RenderStats& stats) const;
     // Pixels per side of the blocks a tile is walked in.

@@ -1,7 +1,10 @@
 #include "thread_pool.h"
 
+#include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <stdexcept>
+#include <stop_token>
 #include <thread>
 #include <vector>
 
@@ -94,6 +97,44 @@ TEST(ThreadPool, ATileOnThePoolIsTheTileOnOneThread) {
     }
     float rgb[3];
     EXPECT_THROW(renderer.render_tile(pool, {90, 0, 7, 1}, rgb), std::invalid_argument);
+}
+
+// A cancelled job's tile stops at its next pixel: asked before it starts, it
+// traces nothing; asked while it renders, it stops long before it would end.
+TEST(ThreadPool, ATileStopsWhenAskedTo) {
+    const Scene scene = floor_and_sphere(1.0f);
+    const Accelerator accel(scene, 1);
+    RenderSettings settings = make_settings(256, 256);
+    settings.set_samples_per_pixel(1024);
+    const Renderer renderer(accel, settings, make_camera({0.0f, 3.0f, 9.0f}, {0.0f, 0.8f, 0.0f}, 40.0f));
+    ThreadPool pool(2);
+    std::vector<float> rgb(256 * 256 * 3, -1.0f);
+
+    std::stop_source before;
+    before.request_stop();
+    EXPECT_THROW(renderer.render_tile(pool, {0, 0, 256, 256}, rgb.data(), {}, 1, 0, before.get_token()),
+                 RenderStopped);
+    EXPECT_EQ(std::count(rgb.begin(), rgb.end(), -1.0f), ptrdiff_t(rgb.size())) << "no pixel was traced";
+
+    // The whole tile takes seconds on two cores; the stop comes after 50 ms.
+    std::stop_source during;
+    std::thread stopper([&] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        during.request_stop();
+    });
+    const auto started = std::chrono::steady_clock::now();
+    EXPECT_THROW(renderer.render_tile(pool, {0, 0, 256, 256}, rgb.data(), {}, 1, 0, during.get_token()),
+                 RenderStopped);
+    stopper.join();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    EXPECT_LT(seconds, 2.0);
+    const ptrdiff_t untouched = std::count(rgb.begin(), rgb.end(), -1.0f);
+    EXPECT_GT(untouched, ptrdiff_t(rgb.size() / 2)) << "the tile went on after the stop";
+    EXPECT_LT(untouched, ptrdiff_t(rgb.size())) << "the tile had begun";
+
+    // The pool goes on with the next tile.
+    std::vector<float> small(8 * 8 * 3);
+    EXPECT_EQ(renderer.render_tile(pool, {0, 0, 8, 8}, small.data()).samples, 8u * 8u * 1024u);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 """The docker-compose topology as processes on loopback: a Dask scheduler, two
-workers and the server pointed at the scheduler. A worker killed mid-job costs
-only its tiles: the job completes with the same image."""
+workers and the server pointed at the scheduler. A cancelled job's tiles stop
+on the workers; a worker killed mid-job costs only its tiles: the job
+completes with the same image."""
 
 import io
 import os
@@ -101,6 +102,28 @@ def expected_png(scene_path: Path, camera: dict, settings: render_pb2.RenderSett
     scene = rtcore.Scene.load(str(scene_path))
     camera_bytes = ParseDict(camera, render_pb2.Camera()).SerializeToString()
     return rtcore.encode_srgb8(scene.render(camera_bytes, settings.SerializeToString(), threads=2))
+
+
+def executing_tiles(topology) -> dict[str, int]:
+    """Tasks each worker's threads are running, cancelled ones included."""
+    from distributed import Client
+
+    with Client(topology.env["RT_SCHEDULER"], timeout="20s") as dask_client:
+        return dask_client.run(lambda dask_worker: len(dask_worker.state.executing))
+
+
+def test_cancel_stops_the_tiles_running_on_the_workers(service, scenes_dir):
+    topology, client = service
+    with open(scenes_dir / "dragon_2.glb", "rb") as f:
+        scene = client.post("/api/scenes", files={"file": ("dragon_2.glb", f)}).json()
+    # Its preview alone (128 x 128 pixels at 2048 samples) keeps a worker busy for a minute.
+    settings = {"width": 1024, "height": 1024, "samples_per_pixel": 2048}
+    job = client.post("/api/jobs", json={"scene_id": scene["id"], "settings": settings}).json()
+    wait_until(lambda: sum(executing_tiles(topology).values()) > 0, 30, "the preview tile to start")
+    assert client.delete(f"/api/jobs/{job['id']}").json()["state"] == "CANCELLED"
+    cancelled = time.monotonic()
+    wait_until(lambda: sum(executing_tiles(topology).values()) == 0, 10, "the workers to stop the tile")
+    assert time.monotonic() - cancelled < 1.5, "the workers went on rendering a cancelled job's tile"
 
 
 def test_a_killed_worker_costs_only_its_tiles(service, scenes_dir):

@@ -305,6 +305,23 @@ def test_render_tile_counts_the_samples(sphere_light):
     assert pixel % 8 == 0 and 32 <= pixel <= 128
 
 
+def test_a_tile_stops_when_its_stop_source_asks(sphere_light):
+    camera = sphere_light.default_camera
+    slow = settings(256, 256, samples_per_pixel=256, light_samples=16)  # seconds of both cores
+    stop = rtcore.StopSource()
+    assert not stop.stop_requested
+    threading.Timer(0.05, stop.request_stop).start()
+    with pytest.raises(rtcore.RenderStopped):
+        sphere_light.render_tile(camera, slow, 0, 0, 256, 256, stop=stop)
+    assert stop.stop_requested and issubclass(rtcore.RenderStopped, RuntimeError)
+    with pytest.raises(rtcore.RenderStopped):  # a stopped source stops every later tile at once
+        sphere_light.render_tile(camera, slow, 0, 0, 256, 256, stop=stop)
+    fresh = sphere_light.render_tile(camera, settings(), 0, 0, 8, 8, stop=rtcore.StopSource())
+    assert np.array_equal(fresh, sphere_light.render_tile(camera, settings(), 0, 0, 8, 8))
+    with pytest.raises(TypeError):
+        sphere_light.render_tile(camera, settings(), 0, 0, 8, 8, stop=True)
+
+
 def test_sampling_settings_have_defaults_and_refuse_bad_values(cornell):
     defaults = render_pb2.RenderSettings.FromString(rtcore.parse_message("rt.RenderSettings", "{}"))
     assert defaults.samples_per_pixel == 1 and defaults.adaptive_threshold == 0

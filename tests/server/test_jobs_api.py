@@ -181,6 +181,23 @@ def test_cancel_stops_a_running_job_within_a_second(client, dragon_id):
     assert read_stream(client, job["id"])[-1].end.state == job_pb2.CANCELLED
 
 
+def test_cancel_stops_the_tiles_already_rendering(client, dragon_id):
+    # The preview of a 1024x1024 image at 2048 samples traces 128 x 128 pixels
+    # at 2048 samples each: many seconds of both cores, unless cancel stops it.
+    slow = {"width": 1024, "height": 1024, "samplesPerPixel": 2048}
+    job = submit(client, dragon_id, settings=slow).json()
+    with client.websocket_connect(f"/api/jobs/{job['id']}/tiles") as ws:
+        first = job_pb2.TileStreamMessage.FromString(ws.receive_bytes())
+    assert first.WhichOneof("message") == "started", "the preview tile is rendering"
+    assert client.delete(f"/api/jobs/{job['id']}").json()["state"] == "CANCELLED"
+    cancelled = time.monotonic()
+    # The next job's tiles share the render pool, oldest tile first: they would
+    # wait for the whole preview if it went on.
+    small = submit(client, dragon_id, 64, 48).json()
+    assert wait_for(client, small["id"], timeout=60)["state"] == "DONE"
+    assert time.monotonic() - cancelled < 3, "the cancelled job's tile went on rendering"
+
+
 def test_a_late_viewer_gets_the_image_so_far_then_the_rest(client, cornell_id):
     job = submit(client, cornell_id, 200, 150).json()
     early = read_stream(client, job["id"])

@@ -10,6 +10,7 @@ folder.
 
 from __future__ import annotations
 
+import asyncio
 import logging
 from collections.abc import Callable
 
@@ -20,8 +21,11 @@ from distributed import Client, Future, LocalCluster, WorkerPlugin
 
 from ..core.allocator import keep_freed_memory
 from ..core.config import Settings
+from .tile_tasks import stop_run
 
 log = logging.getLogger("rt.cluster")
+
+STOP_TIMEOUT_SECONDS = 5
 
 # The embedded cluster shares the server's event loop and cores with the API,
 # so the upkeep Dask does by default for a cluster of its own is turned down or
@@ -89,6 +93,15 @@ class RenderCluster:
         graph = HighLevelGraph({name: layer}, {name: set()})
         # fifo_timeout 0: every graph is a generation of its own, older first.
         return self.client.get(graph, list(tasks), sync=False, fifo_timeout="0ms")
+
+    async def stop(self, run_id: str) -> None:
+        """Stops the run's tiles on every worker (tile_tasks.stop_run): those
+        running stop at their next pixel, those to come return at once.
+        Cancelling their futures only drops the tiles not yet started."""
+        try:
+            await asyncio.wait_for(self.client.run(stop_run, run_id, on_error="ignore"), STOP_TIMEOUT_SECONDS)
+        except (asyncio.TimeoutError, OSError) as e:
+            log.warning("could not reach every worker to stop %s: %r", run_id, e)
 
     @property
     def embedded(self) -> bool:

@@ -191,7 +191,7 @@ class JobManager:
         job.tiles_total = len(specs) + bloom
         total_pixels = sum(s.pixels for s in specs)
         folder = self.folder(job.id)
-        run = secrets.token_hex(3)
+        run_id = f"{job.id}-{secrets.token_hex(3)}"  # a resumed job is a new run, with keys of its own
         futures: dict[str, TileSpec] = {}
         submitted = []
         pixels_done = camera_samples = 0
@@ -200,16 +200,16 @@ class JobManager:
             layers_dir = await asyncio.to_thread(layer_files.create, folder, request.settings.width,
                                                  request.settings.height, grid_size(passes[-1]), aux_names(request))
             args = (running.scene.sha256, str(running.scene.scene_file), request.SerializeToString(), job.id,
-                    str(layers_dir))
+                    run_id, str(layers_dir))
             keys: dict[TileSpec, str] = {}
             tasks, priorities = {}, {}
             for spec in specs:  # previews first: a tile's task names its preview's key, whose result it takes
-                key = keys[spec] = f"tile-{job.id}-{run}-{spec.pass_index}-{spec.x}-{spec.y}"
+                key = keys[spec] = f"tile-{run_id}-{spec.pass_index}-{spec.x}-{spec.y}"
                 tasks[key] = (render_tile, *args, spec) + ((keys[spec.preview],) if spec.preview else ())
                 priorities[key] = spec.priority
                 futures[key] = spec
                 self._tiles[key] = (running, spec)
-            submitted = self._cluster.submit(f"job-{job.id}-{run}", tasks, priorities)
+            submitted = self._cluster.submit(f"job-{run_id}", tasks, priorities)
             async for future in as_completed(submitted):
                 spec = futures[future.key]
                 result = await future
@@ -234,6 +234,7 @@ class JobManager:
             self._end(job, job_pb2.DONE)
         except asyncio.CancelledError as e:
             await client.cancel(submitted)
+            await self._cluster.stop(run_id)
             shutdown = "shutdown" in e.args
             if not shutdown:
                 shutil.rmtree(folder, ignore_errors=True)
@@ -241,6 +242,7 @@ class JobManager:
         except Exception as e:  # a tile failed (or its files could not be made): the job fails with the reason
             log.exception("job %s failed", job.id)
             await client.cancel(submitted)
+            await self._cluster.stop(run_id)
             shutil.rmtree(folder, ignore_errors=True)
             self._end(job, job_pb2.FAILED, f"{type(e).__name__}: {e}")
         finally:

@@ -9,7 +9,9 @@ folder can run any tile.
 
 from __future__ import annotations
 
+import threading
 import time
+from collections import OrderedDict
 from typing import Any
 
 import numpy as np
@@ -30,9 +32,31 @@ def aux_names(request: job_pb2.JobRequest) -> list[str]:
 # to the job's viewers, who outline the tiles being rendered.
 TILE_STARTED_TOPIC = "rt-tile-started"
 
+# Dask cannot interrupt a running task, so a worker keeps a stop source per run
+# of a job it has seen (the newest KEPT_STOPS; a job resumed after a restart is
+# a new run): stop_run, which the server runs on every worker when a job ends
+# early, makes the run's tiles stop at their next pixel, or return at once.
+KEPT_STOPS = 1024
+_stops: OrderedDict[str, rtcore.StopSource] = OrderedDict()
+_stops_lock = threading.Lock()
 
-def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, job_id: str, layers_dir: str,
-                spec: TileSpec, preview: dict[str, Any] | None = None) -> dict[str, Any]:
+
+def _stop_source(run_id: str) -> rtcore.StopSource:
+    with _stops_lock:
+        source = _stops.get(run_id)
+        if source is None:
+            source = _stops[run_id] = rtcore.StopSource()
+            while len(_stops) > KEPT_STOPS:
+                _stops.popitem(last=False)
+        return source
+
+
+def stop_run(run_id: str) -> None:
+    _stop_source(run_id).request_stop()
+
+
+def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, job_id: str, run_id: str, layers_dir: str,
+                spec: TileSpec, preview: dict[str, Any] | None = None) -> dict[str, Any] | None:
     """Renders one tile. A full-resolution tile writes its layers into the
     job's layer files in `layers_dir`; a preview answers them, arrays of
     ceil(h/scale) x ceil(w/scale) pixels, for the tiles that take its pixels.
@@ -41,8 +65,12 @@ def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, job_id: 
     map), made here so that the server's event loop only forwards it; the rays
     traced and camera samples taken; and when the worker started and how long
     it took. `preview` is the result of spec.preview, whose pixels on its grid
-    the tile takes instead of tracing them."""
+    the tile takes instead of tracing them. None when the job's run was
+    stopped (stop_run) before the tile was done."""
     started = time.time()
+    stop = _stop_source(run_id)
+    if stop.stop_requested:
+        return None
     worker = get_worker()
     worker.log_event(TILE_STARTED_TOPIC, worker.get_current_task())
     request = job_pb2.JobRequest.FromString(request_bytes)
@@ -55,8 +83,11 @@ def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, job_id: 
         window = spec.preview_window()
         known = {name: np.ascontiguousarray(layer[window]) for name, layer in preview["layers"].items()}
     # With aux given (even empty) rtcore answers a dict that also counts the rays.
-    layers = scene.render_tile(camera, settings, spec.x, spec.y, spec.w, spec.h, scale=spec.scale,
-                               aux=aux_names(request), known=known, known_stride=stride)
+    try:
+        layers = scene.render_tile(camera, settings, spec.x, spec.y, spec.w, spec.h, scale=spec.scale,
+                                   aux=aux_names(request), known=known, known_stride=stride, stop=stop)
+    except rtcore.RenderStopped:
+        return None
     rays = int(layers.pop("rays"))
     samples = int(layers.pop("samples"))
     layers = {name: np.asarray(array) for name, array in layers.items()}
