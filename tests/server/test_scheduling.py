@@ -6,15 +6,15 @@ import time
 from stream_reader import wait_for
 
 
-def post_job(client, scene_id, width, height, **extra):
-    body = {"scene_id": scene_id, "settings": {"width": width, "height": height}, **extra}
+def post_job(client, scene_id, width, height, samples=1, **extra):
+    body = {"scene_id": scene_id, "settings": {"width": width, "height": height, "samples_per_pixel": samples}, **extra}
     response = client.post("/api/jobs", json=body)
     assert response.status_code == 202, response.text
     return response.json()["id"]
 
 
 def test_an_interactive_job_is_not_stuck_behind_a_big_one(client, dragon_id):
-    big = post_job(client, dragon_id, 1600, 1200)
+    big = post_job(client, dragon_id, 1600, 1200, samples=4)  # 35 tiles of 256 after 4 preview tiles
     while client.get(f"/api/jobs/{big}").json()["tiles_done"] < 4:
         time.sleep(0.02)
     submitted = time.monotonic()
@@ -30,8 +30,10 @@ def test_an_interactive_job_is_not_stuck_behind_a_big_one(client, dragon_id):
 
 
 def test_equal_jobs_advance_together(client, dragon_id):
-    first = post_job(client, dragon_id, 512, 384)
-    second = post_job(client, dragon_id, 512, 384)
+    # 16 samples a pixel: tiles of 128, 12 to a job, so that the second job's
+    # first tiles are ready while the first job still has most of its own to go.
+    first = post_job(client, dragon_id, 512, 384, samples=16)
+    second = post_job(client, dragon_id, 512, 384, samples=16)
     wait_for(client, first, timeout=120)
     other = client.get(f"/api/jobs/{second}").json()
     assert other["tiles_done"] >= 0.6 * other["tiles_total"], other

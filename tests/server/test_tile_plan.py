@@ -5,8 +5,8 @@ import pytest
 
 from rt import job_pb2, render_pb2
 
-from app.services.tile_plan import (PREVIEW_MIN_PIXELS, PREVIEW_SCALE, TILE_RAYS, TILE_SIZES, TILES_PER_THREAD,
-                                     plan_passes, rays_per_pixel)
+from app.services.tile_plan import (MAX_TILES, PREVIEW_MIN_PIXELS, PREVIEW_SCALE, TILE_RAYS, TILE_SIZES,
+                                     TILES_PER_THREAD, plan_passes, rays_per_pixel)
 
 
 @pytest.mark.parametrize("width, height, threads", [(1024, 1024, 2), (1600, 1200, 8), (300, 240, 2),
@@ -44,18 +44,24 @@ def test_an_interactive_job_outranks_a_batch_job_and_previews_outrank_full_tiles
     assert min(t.priority for t in batch[0]) > max(t.priority for t in batch[1])
 
 
-@pytest.mark.parametrize("pixel_rays", [1, 2, 17, 64 * 17, 1e9])
-@pytest.mark.parametrize("width, height, threads", [(1024, 1024, 2), (1920, 1080, 4), (640, 480, 2)])
-def test_tiles_keep_every_thread_busy_within_the_ray_budget(width, height, threads, pixel_rays):
+@pytest.mark.parametrize("pixel_rays", [1, 2, 17, 64 * 17, 2048 * 2, 1e9])
+@pytest.mark.parametrize("width, height, threads", [(1024, 1024, 2), (1920, 1080, 4), (640, 480, 2),
+                                                    (4096, 4096, 2), (4096, 4096, 1024)])
+def test_tiles_keep_every_thread_busy_within_the_ray_budget_and_the_task_limit(width, height, threads, pixel_rays):
     full = plan_passes(width, height, threads, interactive=False, pixel_rays=pixel_rays)[-1]
     size = max(t.w for t in full)
-    smallest = size == TILE_SIZES[-1]
-    assert size * size * pixel_rays <= TILE_RAYS or smallest
-    assert len(full) >= TILES_PER_THREAD * threads or smallest
-    # and no larger tile would do both
-    larger = [s for s in TILE_SIZES if s > size]
-    assert all(s * s * pixel_rays > TILE_RAYS or -(-width // s) * -(-height // s) < TILES_PER_THREAD * threads
-               for s in larger)
+    count = lambda s: -(-width // s) * -(-height // s)  # noqa: E731
+    enough = TILES_PER_THREAD * threads
+    assert len(full) == count(size)
+    assert len(full) >= enough or size == TILE_SIZES[-1]
+    largest_enough = max((s for s in TILE_SIZES if count(s) >= enough), default=TILE_SIZES[-1])
+    assert len(full) <= max(MAX_TILES, enough) or size == largest_enough, "more tasks only when threads need them"
+    smaller = [s for s in TILE_SIZES if s < size]
+    within_budget = size * size * pixel_rays <= TILE_RAYS
+    assert within_budget or not smaller or count(smaller[0]) > max(MAX_TILES, enough), \
+        "over budget only when smaller tiles would be too many"
+    # and no larger tile would do as well
+    assert all(count(s) < enough or s * s * pixel_rays > TILE_RAYS for s in TILE_SIZES if s > size)
 
 
 def test_a_cheap_image_gets_few_large_tiles_and_an_expensive_one_small_tiles():
@@ -63,6 +69,9 @@ def test_a_cheap_image_gets_few_large_tiles_and_an_expensive_one_small_tiles():
     assert {(t.w, t.h) for t in cheap} == {(512, 512)} and len(cheap) == 4
     costly = plan_passes(1024, 1024, 2, interactive=False, pixel_rays=64 * 17)[-1]
     assert max(t.w for t in costly) <= 32
+    # 2048 samples would want 4096 tiles of 16: the task limit makes them 1024 of 32.
+    limited = plan_passes(1024, 1024, 2, interactive=False, pixel_rays=2048 * 2)[-1]
+    assert {(t.w, t.h) for t in limited} == {(32, 32)} and len(limited) == MAX_TILES
 
 
 def test_rays_per_pixel_counts_camera_samples_frames_and_shadow_rays():

@@ -16,7 +16,8 @@ ms of Dask bookkeeping whatever its size, so a cheap image gets large tiles
 (a 1024 x 1024 dragon at one sample: 4 tiles of 512, instead of 16 of 256 that
 took 4% of the image's CPU in bookkeeping), and an expensive one small tiles,
 so that a tile ends in a fraction of a second: an interactive job waits at
-most that long for a thread, and viewers see the image advance.
+most that long for a thread, and viewers see the image advance. A job that
+would need more than MAX_TILES such tiles gets fewer, longer ones.
 """
 
 from __future__ import annotations
@@ -31,6 +32,10 @@ PREVIEW_TILE = 1024              # 128 x 128 samples a task: one for a 1024 x 10
 TILE_SIZES = (512, 256, 128, 64, 32, 16)
 TILES_PER_THREAD = 2             # one rendering and one queued on every thread
 TILE_RAYS = 1 << 20              # a tile's estimated rays: ~0.15 s on 2 cores
+# Tasks of one job at most (unless its threads need more): Dask's bookkeeping
+# grows with them, cancelling a graph as their square (4096 tiles sharing a
+# preview took the event loop 1.7 s to cancel).
+MAX_TILES = 1024
 
 INTERACTIVE_BOOST = 10_000_000
 PREVIEW_BOOST = 1_000_000
@@ -81,10 +86,17 @@ def rays_per_pixel(settings: render_pb2.RenderSettings, lights) -> float:
 
 
 def full_tile_size(width: int, height: int, threads: int, pixel_rays: float = 1.0) -> int:
-    """The largest tile within the ray budget that still gives every thread enough tiles."""
-    for size in TILE_SIZES:
-        within_budget = size * size * pixel_rays <= TILE_RAYS
-        if within_budget and -(-width // size) * -(-height // size) >= TILES_PER_THREAD * max(threads, 1):
+    """The largest tile within the ray budget that still gives every thread
+    enough tiles; over budget when the next smaller tile would make more than
+    MAX_TILES tasks (and enough tiles do not need them)."""
+    enough = TILES_PER_THREAD * max(threads, 1)
+    limit = max(MAX_TILES, enough)
+    counts = [-(-width // size) * -(-height // size) for size in TILE_SIZES]
+    for i, size in enumerate(TILE_SIZES):
+        if counts[i] < enough:
+            continue
+        smallest = i + 1 == len(TILE_SIZES)
+        if size * size * pixel_rays <= TILE_RAYS or smallest or counts[i + 1] > limit:
             return size
     return TILE_SIZES[-1]
 
