@@ -18,7 +18,7 @@ full dragon is uploaded (so it is loaded), then each round
   cores what it takes to receive 4 MB of tiles per image).
 Printed: the medians, and the throughput of the service over rtrender's.
 
-  tests/bench/service_bench.py --scenes build/scenes --rtrender build/rtrender [--size 1024] [--rounds 5]
+  tests/bench/service_bench.py --scenes build/scenes --rtrender build/rtrender [--size 1024] [--rounds 9]
 """
 
 from __future__ import annotations
@@ -142,7 +142,8 @@ def main() -> int:
     parser.add_argument("--rtrender", type=Path, required=True)
     parser.add_argument("--scene", default="dragon_1.glb")
     parser.add_argument("--size", type=int, default=1024)
-    parser.add_argument("--rounds", type=int, default=5)
+    parser.add_argument("--rounds", type=int, default=9,
+                        help="rounds of rtrender then the service; more make the medians steadier on a noisy machine")
     parser.add_argument("--batch", type=int, default=4, help="jobs posted at once for the throughput figure")
     args = parser.parse_args()
 
