@@ -22,9 +22,10 @@ would need more than MAX_TILES such tiles gets fewer, longer ones.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
 
-from rt import job_pb2, render_pb2
+from rt import job_pb2, render_pb2, scene_pb2
 
 PREVIEW_SCALE = 8
 PREVIEW_MIN_PIXELS = 256 * 256   # smaller images are fast enough without a preview
@@ -74,7 +75,7 @@ def _blocks(extent: int, scale: int) -> int:
     return -(-extent // scale)
 
 
-def rays_per_pixel(settings: render_pb2.RenderSettings, lights) -> float:
+def rays_per_pixel(settings: render_pb2.RenderSettings, lights: Iterable[scene_pb2.LightSpec]) -> float:
     """The rays a pixel is expected to cost before any reflection: per camera
     sample (of every frame averaged), the primary ray and the shadow rays, one
     per point light and light_samples per spherical light. An upper bound
