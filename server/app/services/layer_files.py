@@ -60,8 +60,11 @@ def write_tile(folder: str | Path, x: int, y: int, layers: dict[str, np.ndarray]
             np.lib.format.read_magic(f)
             (_, columns, tile, _, channels), _, _ = np.lib.format.read_array_header_1_0(f)
             h, w = values.shape[:2]
-            block = np.zeros((tile, tile, channels), np.float32)
-            block[:h, :w] = values.reshape(h, w, channels)  # an edge tile fills the top left of its block
+            if (h, w) == (tile, tile):
+                block = np.ascontiguousarray(values, np.float32)  # a float32 layer as it is, not copied
+            else:  # an edge tile fills the top left of its block
+                block = np.zeros((tile, tile, channels), np.float32)
+                block[:h, :w] = values.reshape(h, w, channels)
             os.pwrite(f.fileno(), block, f.tell() + ((y // tile) * columns + x // tile) * block.nbytes)
 
 
