@@ -34,6 +34,7 @@ import chart_index  # noqa: E402
 import scaling_cluster  # noqa: E402
 import seed_table  # noqa: E402
 from accuracy_measure import machine_info  # noqa: E402
+from app.services.tile_plan import TILES_PER_THREAD  # noqa: E402  (scaling_cluster puts server/ on the path)
 
 SCENES = ["cornell.obj", "cornell_sphere_light.obj", "smooth_sphere.glb", "bunny.glb", "teapot.glb", "donut.glb",
           "dragon_4.glb", "dragon_3.glb", "dragon_2.glb", "dragon_1.glb"]
@@ -176,7 +177,8 @@ def throughput_chart(t: scaling_cluster.Throughput, machine: dict, out: Path) ->
     mpix = lambda s: scaling_cluster.pixels_per_second(t, s) / 1e6  # noqa: E731
     counts = [2 ** k for k in range(9)]
     ax.plot(counts, [mpix(t.projected(n)) for n in counts], linestyle="--", color="#1f77b4",
-            label="projected: Dask, N workers of 1 thread, the service's tiles (4 per thread)")
+            label=f"projected: Dask, N workers of 1 thread, the service's tiles (at least {TILES_PER_THREAD} "
+                  "per thread)")
     ax.plot(counts, [mpix(t.projected(n, t.best_side(n))) for n in counts], linestyle="-.", color="#2ca02c",
             label="projected: the same with the model's best tile size for N")
     ax.plot(counts, [mpix(scaling_cluster.ideal(t, n)) for n in counts], linestyle=":", color="#999",
@@ -200,7 +202,8 @@ def throughput_chart(t: scaling_cluster.Throughput, machine: dict, out: Path) ->
     ceiling = max(mpix(t.projected(n, t.best_side(n))) for n in counts)
     headline = (f"2 Dask workers render {two:.2f}x as fast as 1 ({t.threads[1] / t.threads[2]:.2f}x for 2 threads "
                 f"in one process); the model projects {mpix(t.projected(8)) / mpix(t.projected(1)):.1f}x at 8 "
-                f"workers, but with the service's 4 tiles per thread the scheduler's {t.serial_s * 1000:.1f} ms per "
+                f"workers, but with the service's tiles (at least {TILES_PER_THREAD} per thread, as large as the ray "
+                f"budget allows) the scheduler's {t.serial_s * 1000:.1f} ms per "
                 f"task caps it at {mpix(t.projected(best)) / mpix(t.projected(1)):.1f}x ({best} workers) and it falls "
                 f"beyond; larger tiles would reach {ceiling / mpix(t.projected(1)):.1f}x")
     table = chart_index.table(["configuration", "", "tiles", "ms per image", "Mpixels/s"],
