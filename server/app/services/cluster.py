@@ -94,10 +94,11 @@ class RenderCluster:
         # fifo_timeout 0: every graph is a generation of its own, older first.
         return self.client.get(graph, list(tasks), sync=False, fifo_timeout="0ms")
 
-    async def stop(self, run_id: str) -> None:
-        """Stops the run's tiles on every worker (tile_tasks.stop_run): those
-        running stop at their next pixel, those to come return at once.
-        Cancelling their futures only drops the tiles not yet started."""
+    async def stop(self, run_id: str, futures: list[Future]) -> None:
+        """Stops a run's tiles: cancelling their futures drops those not yet
+        started, and tile_tasks.stop_run on every worker makes those running
+        stop at their next pixel (and any still to come return at once)."""
+        await self.client.cancel(futures)
         try:
             await asyncio.wait_for(self.client.run(stop_run, run_id, on_error="ignore"), STOP_TIMEOUT_SECONDS)
         except (asyncio.TimeoutError, OSError) as e:

@@ -182,7 +182,6 @@ class JobManager:
     async def _run(self, running: RunningJob) -> None:
         job = running.record
         request = job.request
-        client = self._cluster.client
         passes = plan_passes(request.settings.width, request.settings.height, self._cluster.total_threads(),
                              request.interactive, rays_per_pixel(request.settings, running.scene.info.lights))
         specs = [spec for tiles in passes for spec in tiles]
@@ -233,16 +232,14 @@ class JobManager:
             layer_files.complete(folder)
             self._end(job, job_pb2.DONE)
         except asyncio.CancelledError as e:
-            await client.cancel(submitted)
-            await self._cluster.stop(run_id)
+            await self._cluster.stop(run_id, submitted)
             shutdown = "shutdown" in e.args
             if not shutdown:
                 shutil.rmtree(folder, ignore_errors=True)
                 self._end(job, job_pb2.CANCELLED, "cancelled by request")
         except Exception as e:  # a tile failed (or its files could not be made): the job fails with the reason
             log.exception("job %s failed", job.id)
-            await client.cancel(submitted)
-            await self._cluster.stop(run_id)
+            await self._cluster.stop(run_id, submitted)
             shutil.rmtree(folder, ignore_errors=True)
             self._end(job, job_pb2.FAILED, f"{type(e).__name__}: {e}")
         finally:

@@ -92,7 +92,7 @@ def full_tile_size(width: int, height: int, threads: int, pixel_rays: float = 1.
     MAX_TILES tasks (and enough tiles do not need them)."""
     enough = TILES_PER_THREAD * max(threads, 1)
     limit = max(MAX_TILES, enough)
-    counts = [-(-width // size) * -(-height // size) for size in TILE_SIZES]
+    counts = [_blocks(width, size) * _blocks(height, size) for size in TILE_SIZES]
     for i, size in enumerate(TILE_SIZES):
         if counts[i] < enough:
             continue

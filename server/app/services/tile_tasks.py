@@ -3,8 +3,8 @@
 Workers import this module by name, so it stays small and depends only on
 rtcore, the scene cache, the tile plan and the layer files. The arguments are
 plain values (the scene's path and content hash, the serialized request, the
-job's layer folder, the tile) so that any worker that sees the shared data
-folder can run any tile.
+job and its run, the job's layer folder, the tile) so that any worker that
+sees the shared data folder can run any tile.
 """
 
 from __future__ import annotations
