@@ -1,6 +1,10 @@
 """A job's layers on disk: written tile by tile as blocks, read back as images."""
 
+import errno
+import os
+
 import numpy as np
+import pytest
 
 from app.services import layer_files
 from app.services.tile_plan import grid_size, plan_passes
@@ -35,3 +39,61 @@ def test_a_restarted_run_starts_from_empty_files(tmp_path):
     assert not (tmp_path / layer_files.COMPLETE).exists()
     layer_files.complete(tmp_path)
     assert not layer_files.load(tmp_path, "color").any()
+
+
+def _record_opens(monkeypatch, refuse_direct=False):
+    flags = []
+    real_open = layer_files.os.open
+
+    def recording_open(path, mode, *args):
+        flags.append(mode)
+        if refuse_direct and mode & os.O_DIRECT:
+            raise OSError(errno.EINVAL, "Invalid argument", str(path))
+        return real_open(path, mode, *args)
+
+    monkeypatch.setattr(layer_files.os, "open", recording_open)
+    return flags
+
+
+def _write_image(folder, tile, color):
+    height, width = color.shape[:2]
+    for y in range(0, height, tile):
+        for x in range(0, width, tile):
+            layer_files.write_tile(folder, x, y, {"color": color[y:y + tile, x:x + tile],
+                                                  "depth": color[y:y + tile, x:x + tile, 0]})
+
+
+@pytest.mark.parametrize("refuse_direct", [False, True], ids=["direct", "filesystem-without-O_DIRECT"])
+def test_tiles_of_32_pixels_or_more_go_past_the_page_cache(tmp_path, monkeypatch, refuse_direct):
+    width, height, tile = 100, 70, 32  # edge tiles of 4 and 6 pixels
+    folder = layer_files.create(tmp_path, width, height, tile, ["depth"])
+    with open(folder / "color.npy", "rb") as f:
+        np.lib.format.read_magic(f)
+        np.lib.format.read_array_header_1_0(f)
+        assert f.tell() == layer_files.DIRECT_ALIGN  # blocks start aligned
+    flags = _record_opens(monkeypatch, refuse_direct)
+    color = np.random.default_rng(3).random((height, width, 3), dtype=np.float32)
+    _write_image(folder, tile, color)
+    assert sum(1 for f in flags if f & os.O_DIRECT) == 2 * 4 * 3  # every block of both layers tried it
+    layer_files.complete(tmp_path)
+    np.testing.assert_array_equal(layer_files.load(tmp_path, "color"), color)
+    np.testing.assert_array_equal(layer_files.load(tmp_path, "depth")[..., 0], color[..., 0])
+
+
+def test_files_of_earlier_jobs_take_tiles_through_the_cache(tmp_path, monkeypatch):
+    """Layer files made before the aligned header (numpy's own, 128 bytes)
+    still take tiles, as a job resumed after an upgrade writes into them."""
+    width, height, tile = 64, 64, 32
+    folder = layer_files.create(tmp_path, width, height, tile, [])
+    with open(folder / "color.npy", "wb") as f:
+        np.lib.format.write_array_header_1_0(f, {"descr": "<f4", "fortran_order": False,
+                                                 "shape": (2, 2, tile, tile, 3)})
+        f.truncate(f.tell() + 2 * 2 * tile * tile * 3 * 4)
+    flags = _record_opens(monkeypatch)
+    color = np.random.default_rng(5).random((height, width, 3), dtype=np.float32)
+    for y in (0, tile):
+        for x in (0, tile):
+            layer_files.write_tile(folder, x, y, {"color": color[y:y + tile, x:x + tile]})
+    assert not any(f & os.O_DIRECT for f in flags)
+    layer_files.complete(tmp_path)
+    np.testing.assert_array_equal(layer_files.load(tmp_path, "color"), color)

@@ -13,6 +13,15 @@ a remote worker). Any worker that sees the shared data folder can write any
 tile; a tile written twice (a worker killed mid-tile, its tile run again)
 writes the same values, as a pixel depends only on its coordinates.
 
+Tiles go to disk with O_DIRECT where the filesystem takes it, past the page
+cache: written through the cache, a 1024x1024 image's 12 MB were copied into
+freshly allocated cache pages, 8-15 ms of a worker's CPU per image (half of
+its tile tasks' own time), to be read back once at most, when the job's image
+files are made. It also means a job is done only once its pixels are on the
+disk. For that, a layer file's header is padded to DIRECT_ALIGN bytes, so that
+every block of a tile of 32 pixels or more starts and ends on the alignment;
+other writes (smaller tiles, files of older jobs) go through the cache.
+
 The server makes the files when the job starts, in a folder whose name says
 they are incomplete, and renames it once every tile is in: `layers/` always
 holds a whole image, which a restart can rely on.
@@ -20,9 +29,12 @@ holds a whole image, which a restart can rely on.
 
 from __future__ import annotations
 
+import errno
 import json
+import mmap
 import os
 import shutil
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -46,26 +58,85 @@ def create(job_folder: Path, width: int, height: int, tile: int, aux: list[str])
     for name, channels in {"color": 3, **{a: AUX_CHANNELS[a] for a in aux}}.items():
         with open(folder / f"{name}.npy", "wb") as f:
             shape = (-(-height // tile), -(-width // tile), tile, tile, channels)
-            header = {"descr": np.lib.format.dtype_to_descr(np.dtype(np.float32)), "fortran_order": False,
-                      "shape": shape}
-            np.lib.format.write_array_header_1_0(f, header)
+            f.write(_aligned_header(shape))
             f.truncate(f.tell() + int(np.prod(shape)) * 4)  # zeros, written by no one
     return folder
+
+
+# O_DIRECT's alignment of file offsets, sizes and memory: the largest logical
+# block size of common disks, and the page size.
+DIRECT_ALIGN = 4096
+
+
+def _aligned_header(shape: tuple[int, ...]) -> bytes:
+    """A .npy (1.0) header for float32 blocks of `shape`, padded with spaces to
+    DIRECT_ALIGN bytes as the format allows (numpy pads to 64)."""
+    text = repr({"descr": "<f4", "fortran_order": False, "shape": shape}).encode("latin1")
+    length = DIRECT_ALIGN - len(np.lib.format.magic(1, 0)) - 2
+    return np.lib.format.magic(1, 0) + length.to_bytes(2, "little") + text.ljust(length - 1) + b"\n"
+
+
+_staging = threading.local()
+
+
+def _staging_block(shape: tuple[int, ...]) -> np.ndarray:
+    """A float32 array of `shape` in page-aligned memory, this thread's own,
+    reused from tile to tile (warm pages, not fresh ones each time)."""
+    nbytes = int(np.prod(shape)) * 4
+    buffer = getattr(_staging, "buffer", None)
+    if buffer is None or len(buffer) < nbytes:
+        buffer = _staging.buffer = mmap.mmap(-1, nbytes)
+    return np.frombuffer(buffer, np.float32, int(np.prod(shape))).reshape(shape)
+
+
+def _write_direct(path: Path, block: np.ndarray, offset: int) -> bool:
+    """Writes an aligned block with O_DIRECT; False when the filesystem refuses it."""
+    try:
+        fd = os.open(path, os.O_WRONLY | os.O_DIRECT)
+    except OSError as e:
+        if e.errno == errno.EINVAL:  # no O_DIRECT here (tmpfs before Linux 6.6, some FUSE)
+            return False
+        raise
+    try:
+        data = memoryview(block).cast("B")
+        done = 0
+        while done < len(data):
+            done += os.pwrite(fd, data[done:], offset + done)
+    except OSError as e:
+        if e.errno == errno.EINVAL and done == 0:  # stricter alignment than DIRECT_ALIGN
+            return False
+        raise
+    finally:
+        os.close(fd)
+    return True
 
 
 def write_tile(folder: str | Path, x: int, y: int, layers: dict[str, np.ndarray]) -> None:
     """Writes a full-resolution tile's layers at (x, y), each as one block."""
     for name, values in layers.items():
-        with open(Path(folder) / f"{name}.npy", "r+b") as f:
+        path = Path(folder) / f"{name}.npy"
+        with open(path, "rb") as f:
             np.lib.format.read_magic(f)
             (_, columns, tile, _, channels), _, _ = np.lib.format.read_array_header_1_0(f)
-            h, w = values.shape[:2]
-            if (h, w) == (tile, tile):
-                block = np.ascontiguousarray(values, np.float32)  # a float32 layer as it is, not copied
-            else:  # an edge tile fills the top left of its block
-                block = np.zeros((tile, tile, channels), np.float32)
-                block[:h, :w] = values.reshape(h, w, channels)
-            os.pwrite(f.fileno(), block, f.tell() + ((y // tile) * columns + x // tile) * block.nbytes)
+            shape = (tile, tile, channels)
+            offset = f.tell() + ((y // tile) * columns + x // tile) * int(np.prod(shape)) * 4
+        h, w = values.shape[:2]
+        values = values.reshape(h, w, channels)
+        if offset % DIRECT_ALIGN == 0 and np.prod(shape) * 4 % DIRECT_ALIGN == 0:
+            block = _staging_block(shape)
+            block[:h, :w] = values
+            if (h, w) != (tile, tile):  # an edge tile fills the top left of its block
+                block[h:] = 0
+                block[:h, w:] = 0
+            if _write_direct(path, block, offset):
+                continue
+        if (h, w) == (tile, tile):
+            block = np.ascontiguousarray(values, np.float32)  # a float32 layer as it is, not copied
+        else:
+            block = np.zeros(shape, np.float32)
+            block[:h, :w] = values
+        with open(path, "r+b") as f:
+            os.pwrite(f.fileno(), block, offset)
 
 
 def complete(job_folder: Path) -> None:
