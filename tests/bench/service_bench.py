@@ -181,9 +181,9 @@ def main() -> int:
           + ", ".join(f"{t:.0f}" for t in theirs))
     print(f"  service, one job alone, POST to end  {statistics.median(ours):9.1f} ms   rounds: "
           + ", ".join(f"{t:.0f}" for t in ours))
-    print(f"  service, {args.batch} jobs at once, per image {statistics.median(batched):9.1f} ms   rounds: "
+    print(f"  {f'service, {args.batch} jobs at once, per image':37s}{statistics.median(batched):9.1f} ms   rounds: "
           + ", ".join(f"{t:.0f}" for t in batched))
-    print(f"  the same, each watched on its WebSocket {statistics.median(watched):6.1f} ms   rounds: "
+    print(f"  {'the same, each watched on WebSocket':37s}{statistics.median(watched):9.1f} ms   rounds: "
           + ", ".join(f"{t:.0f}" for t in watched))
     ratio = statistics.median(t / b for t, b in zip(theirs, batched))
     viewed = statistics.median(t / w for t, w in zip(theirs, watched))

@@ -2,7 +2,7 @@
 
 Each thread keeps its own connection (sqlite3 connections must stay in the
 thread that made them); opening one per call cost more than the write itself,
-and progress is saved from the event loop a few times per second.
+and the event loop saves every change of a running job's state.
 """
 
 from __future__ import annotations
@@ -45,7 +45,7 @@ class JobStore:
         db = sqlite3.connect(self._database, timeout=30)
         db.execute("PRAGMA journal_mode=WAL")
         # With WAL, NORMAL keeps the database consistent across a crash and
-        # spares an fsync per progress update on the event loop.
+        # spares the event loop an fsync per saved change of state.
         db.execute("PRAGMA synchronous=NORMAL")
         return db
 
