@@ -5,8 +5,8 @@ contiguous write (row by row, its 3 KB writes cost 16-21 ms of CPU per
 1024x1024 image; as whole blocks, 3-4 ms). layout.json gives the image size;
 load() answers a layer as an image.
 
-Workers write their tiles straight into these files: a tile's floats go from
-the renderer's buffer to the file in one copy, and neither Dask nor the
+Workers write their tiles straight into these files: a tile's floats are
+copied once, into a page-aligned block (edge tiles padded), and neither Dask nor the
 server's event loop carries them (assembling them there and saving the
 image at the end took 4% of a job's CPU, and 12 MB per image through Dask for
 a remote worker). Any worker that sees the shared data folder can write any
@@ -79,31 +79,31 @@ def _aligned_header(shape: tuple[int, ...]) -> bytes:
 _staging = threading.local()
 
 
-def _staging_block(shape: tuple[int, ...]) -> np.ndarray:
-    """A float32 array of `shape` in page-aligned memory, this thread's own,
-    reused from tile to tile (warm pages, not fresh ones each time)."""
-    nbytes = int(np.prod(shape)) * 4
+def _staging_block(shape: tuple[int, int, int]) -> np.ndarray:
+    """A float32 array of `shape` in page-aligned memory (as O_DIRECT needs),
+    this thread's own, reused from tile to tile: warm pages, not fresh ones."""
+    count = shape[0] * shape[1] * shape[2]
     buffer = getattr(_staging, "buffer", None)
-    if buffer is None or len(buffer) < nbytes:
-        buffer = _staging.buffer = mmap.mmap(-1, nbytes)
-    return np.frombuffer(buffer, np.float32, int(np.prod(shape))).reshape(shape)
+    if buffer is None or len(buffer) < count * 4:
+        buffer = _staging.buffer = mmap.mmap(-1, count * 4)
+    return np.frombuffer(buffer, np.float32, count).reshape(shape)
 
 
 def _write_direct(path: Path, block: np.ndarray, offset: int) -> bool:
-    """Writes an aligned block with O_DIRECT; False when the filesystem refuses it."""
+    """Writes a block with O_DIRECT; False when the filesystem refuses it."""
     try:
         fd = os.open(path, os.O_WRONLY | os.O_DIRECT)
     except OSError as e:
         if e.errno == errno.EINVAL:  # no O_DIRECT here (tmpfs before Linux 6.6, some FUSE)
             return False
         raise
+    data = memoryview(block).cast("B")
+    done = 0
     try:
-        data = memoryview(block).cast("B")
-        done = 0
         while done < len(data):
             done += os.pwrite(fd, data[done:], offset + done)
     except OSError as e:
-        if e.errno == errno.EINVAL and done == 0:  # stricter alignment than DIRECT_ALIGN
+        if e.errno == errno.EINVAL and done == 0:  # a stricter alignment than DIRECT_ALIGN
             return False
         raise
     finally:
@@ -118,25 +118,16 @@ def write_tile(folder: str | Path, x: int, y: int, layers: dict[str, np.ndarray]
         with open(path, "rb") as f:
             np.lib.format.read_magic(f)
             (_, columns, tile, _, channels), _, _ = np.lib.format.read_array_header_1_0(f)
-            shape = (tile, tile, channels)
-            offset = f.tell() + ((y // tile) * columns + x // tile) * int(np.prod(shape)) * 4
+            block = _staging_block((tile, tile, channels))
+            offset = f.tell() + ((y // tile) * columns + x // tile) * block.nbytes
         h, w = values.shape[:2]
-        values = values.reshape(h, w, channels)
-        if offset % DIRECT_ALIGN == 0 and np.prod(shape) * 4 % DIRECT_ALIGN == 0:
-            block = _staging_block(shape)
-            block[:h, :w] = values
-            if (h, w) != (tile, tile):  # an edge tile fills the top left of its block
-                block[h:] = 0
-                block[:h, w:] = 0
-            if _write_direct(path, block, offset):
-                continue
-        if (h, w) == (tile, tile):
-            block = np.ascontiguousarray(values, np.float32)  # a float32 layer as it is, not copied
-        else:
-            block = np.zeros(shape, np.float32)
-            block[:h, :w] = values
-        with open(path, "r+b") as f:
-            os.pwrite(f.fileno(), block, offset)
+        block[:h, :w] = values.reshape(h, w, channels)
+        block[h:] = 0  # an edge tile fills the top left of its block
+        block[:h, w:] = 0
+        aligned = offset % DIRECT_ALIGN == 0 and block.nbytes % DIRECT_ALIGN == 0
+        if not (aligned and _write_direct(path, block, offset)):
+            with open(path, "r+b") as f:
+                os.pwrite(f.fileno(), block, offset)
 
 
 def complete(job_folder: Path) -> None:
