@@ -55,12 +55,19 @@ def _record_opens(monkeypatch, refuse_direct=False):
     return flags
 
 
-def _write_image(folder, tile, color):
+def _write_in_tiles(folder, tile, color):
+    """Writes `color`, and its red as a depth layer, tile by tile."""
     height, width = color.shape[:2]
     for y in range(0, height, tile):
         for x in range(0, width, tile):
             layer_files.write_tile(folder, x, y, {"color": color[y:y + tile, x:x + tile],
                                                   "depth": color[y:y + tile, x:x + tile, 0]})
+
+
+def _assert_read_back(job_folder, color):
+    layer_files.complete(job_folder)
+    np.testing.assert_array_equal(layer_files.load(job_folder, "color"), color)
+    np.testing.assert_array_equal(layer_files.load(job_folder, "depth")[..., 0], color[..., 0])
 
 
 @pytest.mark.parametrize("refuse_direct", [False, True], ids=["direct", "filesystem-without-O_DIRECT"])
@@ -73,27 +80,17 @@ def test_tiles_of_32_pixels_or_more_go_past_the_page_cache(tmp_path, monkeypatch
         assert f.tell() == layer_files.DIRECT_ALIGN  # blocks start aligned
     flags = _record_opens(monkeypatch, refuse_direct)
     color = np.random.default_rng(3).random((height, width, 3), dtype=np.float32)
-    _write_image(folder, tile, color)
+    _write_in_tiles(folder, tile, color)
     assert sum(1 for f in flags if f & os.O_DIRECT) == 2 * 4 * 3  # every block of both layers tried it
-    layer_files.complete(tmp_path)
-    np.testing.assert_array_equal(layer_files.load(tmp_path, "color"), color)
-    np.testing.assert_array_equal(layer_files.load(tmp_path, "depth")[..., 0], color[..., 0])
+    _assert_read_back(tmp_path, color)
 
 
-def test_files_of_earlier_jobs_take_tiles_through_the_cache(tmp_path, monkeypatch):
-    """Layer files made before the aligned header (numpy's own, 128 bytes)
-    still take tiles, as a job resumed after an upgrade writes into them."""
-    width, height, tile = 64, 64, 32
-    folder = layer_files.create(tmp_path, width, height, tile, [])
-    with open(folder / "color.npy", "wb") as f:
-        np.lib.format.write_array_header_1_0(f, {"descr": "<f4", "fortran_order": False,
-                                                 "shape": (2, 2, tile, tile, 3)})
-        f.truncate(f.tell() + 2 * 2 * tile * tile * 3 * 4)
+def test_smaller_tiles_go_through_the_cache(tmp_path, monkeypatch):
+    """A 16-pixel tile's depth block (1 KB) cannot meet O_DIRECT's alignment."""
+    width, height, tile = 40, 20, 16
+    folder = layer_files.create(tmp_path, width, height, tile, ["depth"])
     flags = _record_opens(monkeypatch)
     color = np.random.default_rng(5).random((height, width, 3), dtype=np.float32)
-    for y in (0, tile):
-        for x in (0, tile):
-            layer_files.write_tile(folder, x, y, {"color": color[y:y + tile, x:x + tile]})
+    _write_in_tiles(folder, tile, color)
     assert not any(f & os.O_DIRECT for f in flags)
-    layer_files.complete(tmp_path)
-    np.testing.assert_array_equal(layer_files.load(tmp_path, "color"), color)
+    _assert_read_back(tmp_path, color)

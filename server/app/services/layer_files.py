@@ -6,8 +6,8 @@ contiguous write (row by row, its 3 KB writes cost 16-21 ms of CPU per
 load() answers a layer as an image.
 
 Workers write their tiles straight into these files: a tile's floats are
-copied once, into a page-aligned block (edge tiles padded), and neither Dask nor the
-server's event loop carries them (assembling them there and saving the
+copied once, into a page-aligned block (edge tiles padded), and neither Dask
+nor the server's event loop carries them (assembling them there and saving the
 image at the end took 4% of a job's CPU, and 12 MB per image through Dask for
 a remote worker). Any worker that sees the shared data folder can write any
 tile; a tile written twice (a worker killed mid-tile, its tile run again)
@@ -20,7 +20,7 @@ its tile tasks' own time), to be read back once at most, when the job's image
 files are made. It also means a job is done only once its pixels are on the
 disk. For that, a layer file's header is padded to DIRECT_ALIGN bytes, so that
 every block of a tile of 32 pixels or more starts and ends on the alignment;
-other writes (smaller tiles, files of older jobs) go through the cache.
+smaller tiles go through the cache.
 
 The server makes the files when the job starts, in a folder whose name says
 they are incomplete, and renames it once every tile is in: `layers/` always
