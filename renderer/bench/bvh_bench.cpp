@@ -19,14 +19,14 @@
 #include <thread>
 #include <vector>
 
-#include "accel.h"
-#include "brute_force.h"
-#include "camera.h"
-#include "default_camera.h"
-#include "loader.h"
-#include "spawn.h"
-#include "surface.h"
-#include "triangle.h"
+#include "geometry/accel.h"
+#include "geometry/brute_force.h"
+#include "integrator/camera.h"
+#include "integrator/default_camera.h"
+#include "load/loader.h"
+#include "geometry/spawn.h"
+#include "geometry/surface.h"
+#include "geometry/triangle.h"
 
 namespace rt {
 namespace {

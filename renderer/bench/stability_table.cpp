@@ -44,7 +44,7 @@
 #include <sstream>
 #include <string>
 
-#include "proto_limits.h"
+#include "util/proto_limits.h"
 #include "stability_probes.h"
 
 namespace rt {

@@ -18,14 +18,14 @@
 #include <google/protobuf/descriptor.h>
 #include <google/protobuf/util/json_util.h>
 
-#include "accel.h"
-#include "aov.h"
-#include "bloom.h"
-#include "default_camera.h"
-#include "image.h"
-#include "loader.h"
-#include "proto_limits.h"
-#include "render.h"
+#include "geometry/accel.h"
+#include "image/aov.h"
+#include "image/bloom.h"
+#include "integrator/default_camera.h"
+#include "image/image.h"
+#include "load/loader.h"
+#include "util/proto_limits.h"
+#include "integrator/render.h"
 #include "rt/options.pb.h"
 
 namespace {

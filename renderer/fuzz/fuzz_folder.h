@@ -25,7 +25,7 @@
 #include <string_view>
 #include <vector>
 
-#include "loader.h"
+#include "load/loader.h"
 
 namespace rt::fuzz {
 

@@ -15,13 +15,13 @@
 #include <nanobind/stl/tuple.h>
 #include <nanobind/stl/vector.h>
 
-#include "loader.h"
-#include "proto_limits.h"
-#include "render.h"
+#include "load/loader.h"
+#include "util/proto_limits.h"
+#include "integrator/render.h"
 #include "rt/job.pb.h"
 #include "rtcore_image.h"
 #include "rtcore_scene.h"
-#include "thread_pool.h"
+#include "util/thread_pool.h"
 
 namespace nb = nanobind;
 using namespace nb::literals;

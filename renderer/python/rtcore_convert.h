@@ -10,7 +10,7 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 
-#include "proto_limits.h"
+#include "util/proto_limits.h"
 
 namespace rtcore {
 

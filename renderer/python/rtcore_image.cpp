@@ -13,10 +13,10 @@
 #include <nanobind/stl/map.h>
 #include <nanobind/stl/string.h>
 
-#include "aov.h"
-#include "bloom.h"
-#include "display.h"
-#include "image.h"
+#include "image/aov.h"
+#include "image/bloom.h"
+#include "image/display.h"
+#include "image/image.h"
 #include "rtcore_convert.h"
 
 namespace rtcore {

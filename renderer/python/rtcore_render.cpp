@@ -6,11 +6,11 @@
 #include <type_traits>
 #include <vector>
 
-#include "aov.h"
-#include "render.h"
+#include "image/aov.h"
+#include "integrator/render.h"
 #include "rtcore_convert.h"
 #include "rtcore_scene.h"
-#include "thread_pool.h"
+#include "util/thread_pool.h"
 
 namespace rtcore {
 namespace {

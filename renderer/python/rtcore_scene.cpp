@@ -9,10 +9,10 @@
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
 
-#include "default_camera.h"
-#include "glb_export.h"
-#include "loader.h"
-#include "render.h"
+#include "integrator/default_camera.h"
+#include "export/glb_export.h"
+#include "load/loader.h"
+#include "integrator/render.h"
 #include "rtcore_convert.h"
 
 namespace rtcore {

@@ -13,8 +13,8 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 
-#include "accel.h"
-#include "scene.h"
+#include "geometry/accel.h"
+#include "geometry/scene.h"
 
 namespace rtcore {
 

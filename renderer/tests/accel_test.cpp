@@ -1,6 +1,6 @@
 // The accelerator over a scene: level export for the debugger, rays through the
 // shared edges and vertices of closed meshes, debug queries, empty scenes.
-#include "accel.h"
+#include "geometry/accel.h"
 
 #include <gtest/gtest.h>
 

@@ -6,10 +6,10 @@
 
 #include <gtest/gtest.h>
 
-#include "accel.h"
-#include "aov.h"
+#include "geometry/accel.h"
+#include "image/aov.h"
 #include "loader_test_util.h"
-#include "render.h"
+#include "integrator/render.h"
 #include "test_meshes.h"
 #include "test_scenes.h"
 

@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "bloom.h"
+#include "image/bloom.h"
 
 namespace rt {
 namespace {

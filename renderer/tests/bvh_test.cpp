@@ -9,12 +9,12 @@
 
 #include <gtest/gtest.h>
 
-#include "accel.h"
-#include "brute_force.h"
+#include "geometry/accel.h"
+#include "geometry/brute_force.h"
 #include "bvh/binned_sah_builder.h"
 #include "bvh/box_test.h"
 #include "test_meshes.h"
-#include "triangle.h"
+#include "geometry/triangle.h"
 
 namespace rt {
 namespace {

@@ -8,8 +8,8 @@
 
 #include <gtest/gtest.h>
 
-#include "display.h"
-#include "image.h"
+#include "image/display.h"
+#include "image/image.h"
 #include "loader_test_util.h"
 
 // After protobuf's headers: OpenImageIO's define a bswap_16 that makes

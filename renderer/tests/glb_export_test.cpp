@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "glb_export.h"
+#include "export/glb_export.h"
 #include "loader_test_util.h"
 #include "test_meshes.h"
 #include "test_scenes.h"

@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "loader_test_util.h"
-#include "scene_files.h"
+#include "load/scene_files.h"
 
 namespace rt {
 namespace {

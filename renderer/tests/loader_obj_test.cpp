@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "loader_test_util.h"
-#include "texture_decode.h"
+#include "load/texture_decode.h"
 
 namespace rt {
 namespace {

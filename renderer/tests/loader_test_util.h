@@ -17,7 +17,7 @@
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #include <stb/stb_image_write.h>
 
-#include "loader.h"
+#include "load/loader.h"
 
 namespace rt::testing {
 

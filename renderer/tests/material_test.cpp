@@ -1,12 +1,12 @@
 // Texture sampling: bilinear filtering with texel centres at half-integers, the
 // three glTF wrap modes, and robustness to coordinates no file should contain.
-#include "material.h"
+#include "geometry/material.h"
 
 #include <limits>
 
 #include <gtest/gtest.h>
 
-#include "texture_decode.h"
+#include "load/texture_decode.h"
 
 namespace rt {
 namespace {

@@ -8,8 +8,8 @@
 
 #include <limits>
 
-#include "math.h"
-#include "ray.h"
+#include "util/math.h"
+#include "util/ray.h"
 
 namespace rt::testing {
 

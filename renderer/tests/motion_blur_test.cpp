@@ -7,10 +7,10 @@
 
 #include <gtest/gtest.h>
 
-#include "accel.h"
-#include "brute_force.h"
+#include "geometry/accel.h"
+#include "geometry/brute_force.h"
 #include "loader_test_util.h"
-#include "render.h"
+#include "integrator/render.h"
 #include "test_meshes.h"
 #include "test_scenes.h"
 

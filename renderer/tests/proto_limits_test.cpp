@@ -1,4 +1,4 @@
-#include "proto_limits.h"
+#include "util/proto_limits.h"
 
 #include <stdexcept>
 

@@ -6,11 +6,11 @@
 
 #include <gtest/gtest.h>
 
-#include "accel.h"
-#include "dielectric.h"
-#include "glb_export.h"
+#include "geometry/accel.h"
+#include "integrator/dielectric.h"
+#include "export/glb_export.h"
 #include "loader_test_util.h"
-#include "render.h"
+#include "integrator/render.h"
 #include "test_scenes.h"
 
 namespace rt {

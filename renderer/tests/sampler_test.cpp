@@ -7,8 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include "film_sampler.h"
-#include "sampler.h"
+#include "integrator/film_sampler.h"
+#include "integrator/sampler.h"
 
 namespace rt {
 namespace {

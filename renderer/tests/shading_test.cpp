@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
-#include "accel.h"
-#include "render.h"
+#include "geometry/accel.h"
+#include "integrator/render.h"
 #include "test_scenes.h"
 
 namespace rt {

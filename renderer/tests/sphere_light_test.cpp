@@ -7,9 +7,9 @@
 
 #include <gtest/gtest.h>
 
-#include "accel.h"
-#include "render.h"
-#include "sphere_light.h"
+#include "geometry/accel.h"
+#include "integrator/render.h"
+#include "integrator/sphere_light.h"
 #include "test_scenes.h"
 
 namespace rt {

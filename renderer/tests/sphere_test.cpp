@@ -1,10 +1,10 @@
-#include "sphere.h"
+#include "geometry/sphere.h"
 
 #include <random>
 
 #include <gtest/gtest.h>
 
-#include "spawn.h"
+#include "geometry/spawn.h"
 
 namespace rt {
 namespace {

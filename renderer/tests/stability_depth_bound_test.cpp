@@ -9,7 +9,7 @@
 #include <utility>
 
 #include "loader_test_util.h"
-#include "proto_limits.h"
+#include "util/proto_limits.h"
 #include "stability_probes.h"
 
 namespace rt {

@@ -13,14 +13,14 @@
 #include <utility>
 #include <vector>
 
-#include "accel.h"
+#include "geometry/accel.h"
 #include "bvh/traverse.h"
-#include "camera.h"
+#include "integrator/camera.h"
 #include "moller_trumbore.h"
-#include "render.h"
-#include "spawn.h"
+#include "integrator/render.h"
+#include "geometry/spawn.h"
 #include "stability_scenes.h"
-#include "surface.h"
+#include "geometry/surface.h"
 
 namespace rt::testing {
 

@@ -8,9 +8,9 @@
 #include <stdexcept>
 #include <vector>
 
-#include "loader.h"
-#include "ray.h"
-#include "scene.h"
+#include "load/loader.h"
+#include "util/ray.h"
+#include "geometry/scene.h"
 
 namespace rt::testing {
 

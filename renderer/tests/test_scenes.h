@@ -1,7 +1,7 @@
 // Small scenes built in code for the shading, acne and determinism tests.
 #pragma once
 
-#include "scene.h"
+#include "geometry/scene.h"
 
 namespace rt::testing {
 

@@ -1,4 +1,4 @@
-#include "thread_pool.h"
+#include "util/thread_pool.h"
 
 #include <algorithm>
 #include <atomic>
@@ -10,8 +10,8 @@
 
 #include <gtest/gtest.h>
 
-#include "accel.h"
-#include "render.h"
+#include "geometry/accel.h"
+#include "integrator/render.h"
 #include "test_scenes.h"
 
 namespace rt {

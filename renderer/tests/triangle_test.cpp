@@ -1,10 +1,10 @@
-#include "triangle.h"
+#include "geometry/triangle.h"
 
 #include <random>
 
 #include <gtest/gtest.h>
 
-#include "spawn.h"
+#include "geometry/spawn.h"
 
 namespace rt {
 namespace {

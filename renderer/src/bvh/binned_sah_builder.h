@@ -11,9 +11,9 @@
 #include <cstdint>
 #include <span>
 
-#include "bounds.h"
+#include "util/bounds.h"
 #include "bvh/bvh.h"
-#include "math.h"
+#include "util/math.h"
 
 namespace rt::bvh {
 

@@ -11,7 +11,7 @@
 #endif
 
 #include "bvh/node.h"
-#include "ray.h"
+#include "util/ray.h"
 
 namespace rt::bvh {
 

@@ -5,7 +5,7 @@
 
 #include <cstdint>
 
-#include "bounds.h"
+#include "util/bounds.h"
 
 namespace rt::bvh {
 

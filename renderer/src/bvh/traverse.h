@@ -7,7 +7,7 @@
 
 #include "bvh/box_test.h"
 #include "bvh/bvh.h"
-#include "ray.h"
+#include "util/ray.h"
 
 namespace rt::bvh {
 

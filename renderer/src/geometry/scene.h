@@ -1,0 +1,79 @@
+// A scene as the renderer sees it: world-space triangles with per-vertex
+// attributes, analytic spheres, Phong materials, lights and cameras. The loaders
+// (loader.h) build one from glTF or OBJ; nothing here knows about file formats.
+//
+// Triangle vertices may move while the shutter is open: each travels in a
+// straight line from its place at shutter open (time 0) to its place at
+// shutter close (time 1). Spheres, lights and materials stand still.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "util/bounds.h"
+#include "geometry/material.h"
+#include "util/math.h"
+#include "rt/render.pb.h"
+#include "geometry/sphere.h"
+
+namespace rt {
+
+// A point light (radius 0) or a spherical light. `intensity` is colour times
+// candela: irradiance at distance d is intensity / d^2, which a spherical light
+// keeps by emitting the radiance intensity / (pi r^2) (sphere_light.h).
+struct Light {
+    std::string name;
+    vec3 position{0.0f};
+    vec3 intensity{1.0f};
+    float radius = 0.0f;
+};
+
+struct SceneCamera {
+    std::string name;
+    Camera camera;  // the proto message: position, target, up, fov_y
+};
+
+// Where a point moving in a straight line is at shutter time `time`: exactly
+// `open` at time 0 and for a point that does not move. Intersection and
+// shading both interpolate with it, so they agree on where a triangle is.
+inline vec3 lerp_position(vec3 open, vec3 close, float time) { return open + time * (close - open); }
+
+struct Scene {
+    // Vertex attributes, all indexed by the same vertex index. `texcoords` is
+    // empty when no mesh has any; `normals` always has one per vertex.
+    std::vector<vec3> positions;
+    std::vector<vec3> normals;
+    std::vector<vec2> texcoords;
+    // The positions and normals at shutter close, one per vertex when anything
+    // moves, else empty. Normals are interpolated like positions, then
+    // renormalised.
+    std::vector<vec3> positions_close;
+    std::vector<vec3> normals_close;
+
+    std::vector<uvec3> triangles;            // vertex indices
+    std::vector<uint32_t> triangle_materials; // one per triangle
+
+    std::vector<Sphere> spheres;
+    std::vector<Material> materials;
+    std::vector<Texture> textures;
+    std::vector<Light> lights;
+    std::vector<SceneCamera> cameras;
+    vec3 background{0.0f};
+
+    // What the loader noticed and repaired or skipped, for the user.
+    std::vector<std::string> warnings;
+    size_t degenerate_triangles = 0;  // dropped because no ray can hit them
+
+    bool moving() const { return !positions_close.empty(); }
+    // Only for a moving scene.
+    vec3 position_at(uint32_t vertex, float time) const {
+        return lerp_position(positions[vertex], positions_close[vertex], time);
+    }
+
+    size_t primitive_count() const { return triangles.size() + spheres.size(); }
+    // Of everything over the whole shutter interval.
+    Bounds3 bounds() const;
+};
+
+}  // namespace rt

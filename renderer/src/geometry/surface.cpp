@@ -1,0 +1,55 @@
+#include "geometry/surface.h"
+
+#include "geometry/sphere.h"
+#include "geometry/triangle.h"
+
+namespace rt {
+
+SurfaceHit surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
+    SurfaceHit s;
+    s.time = ray.time;
+    const size_t triangle_count = scene.triangles.size();
+    if (hit.primitive >= triangle_count) {
+        const Sphere& sphere = scene.spheres[hit.primitive - triangle_count];
+        s.p = sphere_point(sphere, ray, hit.t, s.p_error, s.ng);
+        s.ns = s.ng;
+        s.material = sphere.material;
+        return s;
+    }
+
+    const uvec3 tri = scene.triangles[hit.primitive];
+    const bool moving = scene.moving();
+    const auto position = [&](uint32_t v) { return moving ? scene.position_at(v, ray.time) : scene.positions[v]; };
+    // Lengths change along the way; the normalisation below restores them.
+    const auto normal = [&](uint32_t v) {
+        return moving ? lerp_position(scene.normals[v], scene.normals_close[v], ray.time) : scene.normals[v];
+    };
+    const vec3 p0 = position(tri.x), p1 = position(tri.y), p2 = position(tri.z);
+    const float b0 = 1.0f - hit.u - hit.v;
+    s.p = b0 * p0 + hit.u * p1 + hit.v * p2;
+    s.p_error = gamma_bound(7) * (glm::abs(b0 * p0) + glm::abs(hit.u * p1) + glm::abs(hit.v * p2));
+    // Zero only for a triangle with no area, which the loaders drop; one built
+    // otherwise, or moving through such a pose, faces the ray that found it.
+    const dvec3 area = area_normal(p0, p1, p2);
+    s.ng = area != dvec3(0.0) ? vec3(glm::normalize(area)) : -glm::normalize(ray.direction);
+
+    const vec3 n = b0 * normal(tri.x) + hit.u * normal(tri.y) + hit.v * normal(tri.z);
+    const float length = glm::length(n);
+    s.ns = length > 0.0f && std::isfinite(length) ? n / length : s.ng;
+    if (!scene.texcoords.empty())
+        s.uv = b0 * scene.texcoords[tri.x] + hit.u * scene.texcoords[tri.y] + hit.v * scene.texcoords[tri.z];
+    s.material = scene.triangle_materials[hit.primitive];
+    return s;
+}
+
+void face_viewer(SurfaceHit& s, vec3 towards_viewer) {
+    // The winding may disagree with the authored normals; the normals win.
+    if (glm::dot(s.ns, s.ng) < 0.0f) s.ng = -s.ng;
+    if (glm::dot(s.ng, towards_viewer) < 0.0f) {
+        s.ng = -s.ng;
+        s.ns = -s.ns;
+    }
+    if (glm::dot(s.ns, towards_viewer) <= 0.0f) s.ns = s.ng;
+}
+
+}  // namespace rt

@@ -1,0 +1,31 @@
+// What shading needs at a hit: the point with its rounding-error bound (for
+// spawning rays), geometric and shading normals, texture coordinates, material.
+#pragma once
+
+#include "util/ray.h"
+#include "geometry/scene.h"
+
+namespace rt {
+
+struct SurfaceHit {
+    vec3 p{0.0f};
+    vec3 p_error{0.0f};  // bound on |p - exact point| per axis
+    vec3 ng{0.0f};       // geometric normal, unit length
+    vec3 ns{0.0f};       // interpolated shading normal, unit length
+    vec2 uv{0.0f};
+    uint32_t material = 0;
+    float time = 0.0f;   // the shutter time of the ray that hit, for the rays spawned here
+};
+
+// The point is interpolated from the triangle's vertices with the barycentrics
+// rather than taken as origin + t * direction: its error then depends only on
+// the vertices' magnitude, not on how far the ray travelled. In a moving scene
+// the vertices and normals are those at ray.time.
+SurfaceHit surface_at(const Scene& scene, const Ray& ray, const Hit& hit);
+
+// Orients both normals towards the side the ray came from (seed 2.1), flipping
+// them together so they stay consistent; a shading normal that still faces away
+// (interpolation at a silhouette) falls back to the geometric one.
+void face_viewer(SurfaceHit& s, vec3 towards_viewer);
+
+}  // namespace rt

@@ -1,0 +1,372 @@
+#include "integrator/whitted.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+#include "integrator/dielectric.h"
+#include "integrator/sampling.h"
+#include "geometry/spawn.h"
+#include "integrator/sphere_light.h"
+
+namespace rt {
+namespace {
+
+void count(RayCounts& counts, RayKind kind) {
+    (kind == PRIMARY ? counts.camera : kind == REFRACTION ? counts.refraction : counts.reflection) += 1;
+}
+
+// The mirror direction about the shading normal; a bent shading normal can
+// mirror below the surface, and then the true surface decides.
+vec3 mirror_direction(vec3 direction, const SurfaceHit& s) {
+    const vec3 mirrored = glm::reflect(direction, s.ns);
+    return glm::dot(mirrored, s.ng) > 0.0f ? mirrored : glm::reflect(direction, s.ng);
+}
+
+// The hot path: counts rays, records nothing.
+struct CountingRecorder {
+    RayCounts& counts;
+
+    int closest(const Accelerator& accel, const Ray& ray, RayKind kind, uint32_t, int, vec3, Hit& hit) {
+        count(counts, kind);
+        accel.intersect(ray, hit);
+        return -1;
+    }
+    int shadow(const Accelerator& accel, const Ray& ray, uint32_t, int, uint32_t, bool& occluded) {
+        ++counts.shadow;
+        occluded = accel.occluded(ray);
+        return -1;
+    }
+    void surface(int, const SurfaceHit&, const Hit&, const Material&, vec3) {}
+    void light(int, const Ray&, float, const Light&, vec3) {}
+    void contribution(int, vec3) {}
+};
+
+// The hot path's counts plus the auxiliary outputs: every ray's traversal
+// cost, and the primary hit's surface. Like the debugger's, its segment 0 is
+// the primary ray.
+struct AuxRecorder {
+    RayCounts& counts;
+    AuxSample& aux;
+
+    int closest(const Accelerator& accel, const Ray& ray, RayKind kind, uint32_t, int, vec3, Hit& hit) {
+        count(counts, kind);
+        accel.intersect(ray, hit, aux.cost);
+        if (kind != PRIMARY) return -1;
+        // Camera rays have unit directions: t is the distance.
+        if (hit.found()) aux.depth = hit.t;
+        return 0;
+    }
+    int shadow(const Accelerator& accel, const Ray& ray, uint32_t, int, uint32_t, bool& occluded) {
+        ++counts.shadow;
+        occluded = accel.occluded(ray, aux.cost);
+        return -1;
+    }
+    void surface(int segment, const SurfaceHit& s, const Hit&, const Material&, vec3 diffuse) {
+        if (segment != 0) return;
+        aux.normal = s.ns;
+        aux.albedo = diffuse;
+    }
+    // A light has no albedo; its normal faces the camera, which is outside it.
+    void light(int segment, const Ray& ray, float t, const Light& light, vec3) {
+        if (segment != 0) return;
+        aux.depth = t;
+        aux.normal = glm::normalize(ray.at(t) - light.position);
+    }
+    void contribution(int, vec3) {}
+};
+
+void set_vec3(google::protobuf::RepeatedField<float>* field, vec3 v) {
+    field->Clear();
+    field->Add(v.x);
+    field->Add(v.y);
+    field->Add(v.z);
+}
+
+// The debugger's view: every ray as a segment, with the BVH nodes it visited.
+struct DebugRecorder {
+    DebugPath& path;
+    float miss_length;
+
+    RaySegment& add(const Ray& ray, RayKind kind, uint32_t depth, int parent, const TraversalRecord& record) {
+        RaySegment& segment = *path.add_segments();
+        set_vec3(segment.mutable_origin(), ray.origin);
+        segment.set_kind(kind);
+        segment.set_depth(depth);
+        segment.set_parent(parent);
+        segment.mutable_visited_nodes()->Add(record.visited_nodes.begin(), record.visited_nodes.end());
+        segment.set_triangles_tested(record.triangles_tested);
+        return segment;
+    }
+
+    int closest(const Accelerator& accel, const Ray& ray, RayKind kind, uint32_t depth, int parent,
+                vec3 weight, Hit& hit) {
+        TraversalRecord record;
+        const bool found = accel.intersect(ray, hit, record);
+        RaySegment& segment = add(ray, kind, depth, parent, record);
+        segment.set_outcome(found ? HIT : MISS);
+        const float t = found ? hit.t : miss_length;
+        segment.set_t(t);
+        set_vec3(segment.mutable_end(), ray.at(t));
+        set_vec3(segment.mutable_weight(), weight);
+        return path.segments_size() - 1;
+    }
+    int shadow(const Accelerator& accel, const Ray& ray, uint32_t depth, int parent, uint32_t light,
+               bool& occluded) {
+        TraversalRecord record;
+        occluded = accel.occluded(ray, record);
+        RaySegment& segment = add(ray, SHADOW, depth, parent, record);
+        segment.set_outcome(occluded ? OCCLUDED : REACHED_LIGHT);
+        segment.set_light(light);
+        segment.set_t(ray.t_max);
+        set_vec3(segment.mutable_end(), ray.at(ray.t_max));
+        return path.segments_size() - 1;
+    }
+    void surface(int index, const SurfaceHit& s, const Hit& hit, const Material& m, vec3) {
+        RaySegment& segment = *path.mutable_segments(index);
+        set_vec3(segment.mutable_end(), s.p);
+        set_vec3(segment.mutable_normal(), s.ns);
+        segment.set_material(int32_t(s.material));
+        segment.set_material_name(m.name);
+        segment.set_primitive(hit.primitive);
+    }
+    // No material: the segment names the light it ended on.
+    void light(int index, const Ray& ray, float t, const Light& light, vec3 radiance) {
+        RaySegment& segment = *path.mutable_segments(index);
+        segment.set_outcome(REACHED_LIGHT);
+        segment.set_t(t);
+        const vec3 end = ray.at(t);
+        set_vec3(segment.mutable_end(), end);
+        set_vec3(segment.mutable_normal(), glm::normalize(end - light.position));
+        segment.set_material(-1);
+        segment.set_material_name(light.name);
+        set_vec3(segment.mutable_contribution(), radiance);
+    }
+    void contribution(int index, vec3 c) { set_vec3(path.mutable_segments(index)->mutable_contribution(), c); }
+};
+
+}  // namespace
+
+vec3 phong_brdf(vec3 diffuse, vec3 specular, float shininess, vec3 n, vec3 wo, vec3 wi) {
+    vec3 f = diffuse / kPi;
+    if (specular != vec3(0.0f)) {
+        const float cos_alpha = glm::dot(glm::reflect(-wi, n), wo);
+        if (cos_alpha > 0.0f)
+            f += specular * ((shininess + 2.0f) / (2.0f * kPi) * std::pow(cos_alpha, shininess));
+    }
+    return f;
+}
+
+WhittedIntegrator::WhittedIntegrator(const Accelerator& accel, const RenderSettings& settings)
+    : accel_(accel),
+      scene_(accel.scene()),
+      max_depth_(settings.max_depth()),
+      min_contribution_(settings.min_contribution()),
+      light_samples_(settings.light_samples()),
+      light_sampling_(settings.light_sampling()) {
+    for (size_t i = 0; i < scene_.lights.size(); ++i)
+        if (scene_.lights[i].radius > 0.0f) sphere_lights_.push_back(uint32_t(i));
+    const bool splits = std::any_of(scene_.materials.begin(), scene_.materials.end(),
+                                    [](const Material& m) { return m.transmission != vec3(0.0f); });
+    const double bound = closest_rays_bound(max_depth_, min_contribution_, splits ? 2 : 1);
+    if (bound > kMaxRaysPerCameraSample) {
+        char rays[32], cutoff[32];
+        std::snprintf(rays, sizeof rays, "%.3g", bound);
+        std::snprintf(cutoff, sizeof cutoff, "%g", double(min_contribution_));
+        throw std::invalid_argument(
+            "settings.maxDepth: " + std::to_string(max_depth_) + " with settings.minContribution " + cutoff +
+            " lets one camera ray split into up to " + rays +
+            " rays at this scene's transparent surfaces (the most allowed is " +
+            std::to_string(uint64_t(kMaxRaysPerCameraSample)) + "): lower maxDepth or raise minContribution");
+    }
+}
+
+double closest_rays_bound(uint32_t max_depth, float min_contribution, uint32_t branches) {
+    double bound = 0.0, rays_at_depth = 1.0;
+    for (uint32_t d = 0; d <= max_depth; ++d, rays_at_depth *= branches) {
+        const double above_cutoff = min_contribution > 0.0f ? std::ceil(1.0 / min_contribution) - 1.0 : rays_at_depth;
+        bound += std::min(rays_at_depth, above_cutoff);
+    }
+    return bound;
+}
+
+vec3 WhittedIntegrator::radiance(const Ray& ray, const PixelSampler& sampler, RayCounts& counts) const {
+    CountingRecorder recorder{counts};
+    return trace(ray, PRIMARY, 0, vec3(1.0f), -1, sampler, recorder);
+}
+
+vec3 WhittedIntegrator::radiance(const Ray& ray, const PixelSampler& sampler, RayCounts& counts,
+                                 AuxSample& aux) const {
+    AuxRecorder recorder{counts, aux};
+    return trace(ray, PRIMARY, 0, vec3(1.0f), -1, sampler, recorder);
+}
+
+vec3 WhittedIntegrator::radiance(const Ray& ray, const PixelSampler& sampler, DebugPath& path) const {
+    const Bounds3 bounds = scene_.bounds();
+    const float extent = bounds.empty() ? 1.0f : glm::length(bounds.extent());
+    const float reach = bounds.empty() ? 1.0f : glm::length(bounds.center() - ray.origin);
+    DebugRecorder recorder{path, reach + extent};
+    const vec3 color = trace(ray, PRIMARY, 0, vec3(1.0f), -1, sampler, recorder);
+    set_vec3(path.mutable_color(), color);
+    return color;
+}
+
+// Lights are few and not in the BVH: they cast no shadows, and a shadow ray
+// ends on its light without the BVH having to skip it.
+int WhittedIntegrator::nearest_light(const Ray& ray, float& t) const {
+    int nearest = -1;
+    Ray probe = ray;
+    for (uint32_t index : sphere_lights_) {
+        const Light& light = scene_.lights[index];
+        float t_light = 0.0f;
+        if (intersect_sphere(probe, Sphere{light.position, light.radius, 0}, t_light)) {
+            probe.t_max = t = t_light;
+            nearest = int(index);
+        }
+    }
+    return nearest;
+}
+
+template <class Recorder>
+vec3 WhittedIntegrator::trace(const Ray& ray, RayKind kind, uint32_t depth, vec3 weight, int parent,
+                              const PixelSampler& sampler, Recorder& recorder) const {
+    Hit hit;
+    const int segment = recorder.closest(accel_, ray, kind, depth, parent, weight, hit);
+    if (!sphere_lights_.empty()) {
+        float t = 0.0f;
+        const int index = nearest_light(Ray{ray.origin, ray.direction, hit.t}, t);
+        if (index >= 0) {
+            const Light& light = scene_.lights[size_t(index)];
+            const vec3 emitted = sphere_light_radiance(light);
+            recorder.light(segment, ray, t, light, emitted);
+            return emitted;
+        }
+    }
+    if (!hit.found()) return scene_.background;
+
+    SurfaceHit s = surface_at(scene_, ray, hit);
+    // Inside or outside is the authored normals' side (as face_viewer orients
+    // them before it turns both towards the viewer and forgets it).
+    const vec3 outward = glm::dot(s.ns, s.ng) < 0.0f ? -s.ng : s.ng;
+    const bool entering = glm::dot(outward, ray.direction) < 0.0f;
+    const vec3 wo = -ray.direction;
+    face_viewer(s, wo);
+    const Material& m = scene_.materials[s.material];
+    vec3 diffuse = m.diffuse;
+    if (m.diffuse_texture >= 0) diffuse *= scene_.textures[size_t(m.diffuse_texture)].sample(s.uv);
+    recorder.surface(segment, s, hit, m, diffuse);
+
+    // Light that passes the dielectric interface never reaches the Phong
+    // surface; an opaque material's opacity of exactly 1 leaves it unchanged.
+    vec3 color = direct_light(s, wo, m, diffuse, vec3(1.0f) - m.transmission, depth, segment, sampler, recorder);
+    recorder.contribution(segment, color);
+
+    // The mirror belongs to the Phong surface, which the light that passes the
+    // interface never meets either. The weights of the rays a hit spawns then
+    // add up to at most 1, so min_contribution bounds a camera ray's tree of
+    // rays; with Kr + T above 1 it would double at every glass hit.
+    vec3 mirror = m.reflectance * (vec3(1.0f) - m.transmission);
+    if (m.transmission != vec3(0.0f))
+        color += transmitted(s, entering, wo, m, mirror, depth, weight, segment, sampler, recorder);
+    return color + follow(s, mirror_direction(ray.direction, s), REFLECTION, mirror, depth, weight, segment, sampler,
+                          recorder);
+}
+
+template <class Recorder>
+vec3 WhittedIntegrator::follow(const SurfaceHit& s, vec3 direction, RayKind kind, vec3 local_weight, uint32_t depth,
+                               vec3 weight, int parent, const PixelSampler& sampler, Recorder& recorder) const {
+    // Follow only while the light can still show in the pixel: the product of
+    // weights along the path, not just this surface's (seed 3.3).
+    const vec3 path_weight = weight * local_weight;
+    if (depth >= max_depth_ || !(max_component(path_weight) > min_contribution_)) return vec3(0.0f);
+    // spawn_ray offsets to the side `direction` leaves on: through the surface
+    // for a refracted ray.
+    const Ray ray = spawn_ray(s.p, s.p_error, s.ng, direction, s.time);
+    return local_weight * trace(ray, kind, depth + 1, path_weight, parent, sampler.bounce(depth + 1), recorder);
+}
+
+template <class Recorder>
+vec3 WhittedIntegrator::transmitted(const SurfaceHit& s, bool entering, vec3 wo, const Material& m, vec3& mirror,
+                                    uint32_t depth, vec3 weight, int parent, const PixelSampler& sampler,
+                                    Recorder& recorder) const {
+    // Both normals face the viewer, so eta is taken relative to the side the
+    // ray comes from. Media are not tracked: a surface inside glass still sees
+    // air on its outside. Radiance is not scaled by 1/eta^2 across the
+    // interface (Whitted's model; it cancels for a closed object anyway).
+    const float eta = entering ? m.ior : 1.0f / m.ior;
+    vec3 n = s.ns;
+    vec3 direction(0.0f);
+    bool refracted = refract(wo, n, eta, direction);
+    // A bent shading normal can refract to the viewer's side of the true
+    // surface: then the true surface decides.
+    if (refracted && glm::dot(direction, s.ng) >= 0.0f) {
+        n = s.ng;
+        refracted = refract(wo, n, eta, direction);
+    }
+    if (!refracted) {  // total internal reflection: all of the transmitted share reflects
+        mirror += m.transmission;
+        return vec3(0.0f);
+    }
+    const float reflectance = fr_dielectric(glm::dot(wo, n), eta);
+    mirror += reflectance * m.transmission;
+    return follow(s, direction, REFRACTION, (1.0f - reflectance) * m.transmission, depth, weight, parent, sampler,
+                  recorder);
+}
+
+template <class Recorder>
+vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Material& m, vec3 diffuse,
+                                     vec3 opacity, uint32_t depth, int parent, const PixelSampler& sampler,
+                                     Recorder& recorder) const {
+    // Shadow rays stay opaque: a transmissive occluder blocks the light, as in
+    // Whitted's model (caustics through glass are beyond it).
+    vec3 color(0.0f);
+    for (size_t light_index = 0; light_index < scene_.lights.size(); ++light_index) {
+        const Light& light = scene_.lights[light_index];
+        const vec3 to_light = light.position - s.p;
+        const float distance_squared = glm::dot(to_light, to_light);
+        const float radius_squared = light.radius * light.radius;
+        if (!(distance_squared > radius_squared)) continue;  // inside a spherical light
+
+        if (light.radius == 0.0f) {
+            const vec3 wi = to_light / std::sqrt(distance_squared);
+            const float cos_theta = glm::dot(s.ns, wi);
+            if (cos_theta <= 0.0f || glm::dot(s.ng, wi) <= 0.0f) continue;
+            bool occluded = false;
+            const int shadow = recorder.shadow(accel_, spawn_ray_to(s.p, s.p_error, s.ng, light.position, s.time),
+                                               depth, parent, uint32_t(light_index), occluded);
+            if (occluded) continue;
+            // Intensity first: cos / d^2 alone overflows for lights closer than
+            // 1e-19, where the irradiance of a light scaled with its scene does not.
+            const vec3 c = phong_brdf(diffuse, m.specular, m.shininess, s.ns, wo, wi) *
+                           (light.intensity * cos_theta / distance_squared) * opacity;
+            recorder.contribution(shadow, c);
+            color += c;
+            continue;
+        }
+
+        // A spherical light: light_samples points on it, each pixel sample
+        // taking its own share of the light's sample dimension.
+        const SphereLightSampler light_sampler(light, light_sampling_, s.p);
+        vec3 sum(0.0f);
+        for (uint32_t i = 0; i < light_samples_; ++i) {
+            SphereLightSample sample;
+            if (!light_sampler.sample(sampler.get_2d(uint32_t(light_index), i, light_samples_), sample)) continue;
+            const float cos_theta = glm::dot(s.ns, sample.wi);
+            if (cos_theta <= 0.0f || glm::dot(s.ng, sample.wi) <= 0.0f) continue;
+            bool occluded = false;
+            const int shadow = recorder.shadow(accel_, spawn_ray_to(s.p, s.p_error, s.ng, sample.point, s.time), depth,
+                                               parent, uint32_t(light_index), occluded);
+            if (occluded) continue;
+            const vec3 c = phong_brdf(diffuse, m.specular, m.shininess, s.ns, wo, sample.wi) * sample.weight *
+                           (cos_theta / float(light_samples_)) * opacity;
+            recorder.contribution(shadow, c);
+            sum += c;
+        }
+        color += sum;
+    }
+    return color;
+}
+
+}  // namespace rt

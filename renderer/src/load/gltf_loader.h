@@ -1,0 +1,51 @@
+// glTF 2.0 in three steps: gltf_loader.cpp checks the file and every file it
+// references, then parses it with tinygltf; gltf_scene.cpp turns the parsed
+// model's nodes and meshes into our scene, and gltf_materials.cpp its materials.
+#pragma once
+
+#include <map>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "load/format_loaders.h"
+#include "load/texture_decode.h"
+#include "load/third_party.h"
+
+namespace rt {
+
+// Extensions that may appear in `extensionsRequired`: any other one changes the
+// meaning of the file in a way we would silently get wrong, so it is refused.
+inline constexpr const char* kSupportedGltfExtensions[] = {"KHR_lights_punctual", "KHR_materials_transmission",
+                                                          "KHR_materials_ior"};
+
+// The scene of a parsed model, its nodes moved by its first animation and by
+// `motions` (gltf_poses.h). Image payloads read from URIs are still encoded, in
+// tinygltf::Image::image; images in buffer views are read from there. Throws
+// SceneError prefixed with `scene_name` for anything invalid.
+LoadedScene build_gltf_scene(const tinygltf::Model& model, const std::string& scene_name,
+                             std::span<const SceneAdditions::Motion> motions);
+
+// glTF materials as Phong materials (docs/materials.md), each converted when a
+// primitive first uses it, with its base colour texture decoded then.
+class GltfMaterials {
+  public:
+    GltfMaterials(const tinygltf::Model& model, const std::string& scene_name, Scene& scene)
+        : model_(model), name_(scene_name), scene_(scene), materials_(model.materials.size(), -1) {}
+
+    // The scene material of glTF material `index` (kNoMaterial for -1), used by
+    // the primitive `what`.
+    uint32_t material(int index, const std::string& what);
+
+  private:
+    int texture(const tinygltf::TextureInfo& info, const std::string& what);
+
+    const tinygltf::Model& model_;
+    const std::string& name_;
+    Scene& scene_;
+    std::vector<int> materials_;  // glTF material -> scene material, -1 until first used
+    std::map<std::tuple<int, int, int>, int> textures_;  // (image, wrap s, wrap t) -> texture
+    size_t texel_budget_ = kMaxSceneTexels;
+};
+
+}  // namespace rt

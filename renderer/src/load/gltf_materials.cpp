@@ -1,0 +1,170 @@
+#include <algorithm>
+#include <cmath>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "load/gltf_loader.h"
+#include "load/loader.h"
+
+namespace rt {
+namespace {
+
+std::string at(const char* array, size_t index) {
+    return std::string(array) + "[" + std::to_string(index) + "]";
+}
+
+// A number member of a material extension: `fallback` when the extension or
+// the member is absent, NaN when it is not a number, so that it is refused.
+double extension_number(const tinygltf::Material& material, const char* extension, const char* member,
+                        double fallback) {
+    const auto found = material.extensions.find(extension);
+    if (found == material.extensions.end() || !found->second.IsObject() || !found->second.Has(member))
+        return fallback;
+    const tinygltf::Value& value = found->second.Get(member);
+    return value.IsNumber() ? value.GetNumberAsDouble() : std::nan("");
+}
+
+// KHR_materials_transmission and KHR_materials_ior make a smooth dielectric
+// (docs/materials.md). `label` names the material in errors and warnings.
+void read_dielectric(const tinygltf::Material& source, const std::string& label, Scene& scene, Material& out) {
+    const double transmission = extension_number(source, "KHR_materials_transmission", "transmissionFactor", 0.0);
+    if (!std::isfinite(transmission))
+        throw SceneError(label + ".extensions.KHR_materials_transmission.transmissionFactor is not a finite number");
+    const double ior = extension_number(source, "KHR_materials_ior", "ior", 1.5);
+    // Below 1 light would travel faster inside than in the air around it, and
+    // Snell's law would refract the wrong way: no glass is like that.
+    if (!std::isfinite(ior) || ior < 1.0 || ior > 1e6)
+        throw SceneError(label + ".extensions.KHR_materials_ior.ior is " + shown(ior) +
+                         ", expected a number from 1 to 10^6");
+    out.transmission = vec3(float(std::clamp(transmission, 0.0, 1.0)));
+    out.ior = float(ior);
+    const auto found = source.extensions.find("KHR_materials_transmission");
+    if (found != source.extensions.end() && found->second.IsObject() && found->second.Has("transmissionTexture"))
+        scene.warnings.push_back(label + ".extensions.KHR_materials_transmission.transmissionTexture is ignored: "
+                                         "the factor alone sets the transmission");
+}
+
+}  // namespace
+
+uint32_t GltfMaterials::material(int index, const std::string& what) {
+    // A primitive without a material gets finalisation's neutral grey, not
+    // glTF's default material (see docs/materials.md).
+    if (index == -1) return kNoMaterial;
+    if (index < 0 || size_t(index) >= model_.materials.size())
+        throw SceneError(name_ + ": " + what + ".material refers to material " + std::to_string(index) +
+                         ", which does not exist");
+    int& mapped = materials_[size_t(index)];
+    if (mapped >= 0) return uint32_t(mapped);
+
+    const tinygltf::Material& source = model_.materials[size_t(index)];
+    const std::string name = at("materials", size_t(index));
+    const tinygltf::PbrMetallicRoughness& pbr = source.pbrMetallicRoughness;
+    if (pbr.baseColorFactor.size() != 4)
+        throw SceneError(name_ + ": " + name + ".pbrMetallicRoughness.baseColorFactor has " +
+                         std::to_string(pbr.baseColorFactor.size()) + " values, expected 4");
+    bool finite = std::isfinite(pbr.metallicFactor) && std::isfinite(pbr.roughnessFactor);
+    for (double v : pbr.baseColorFactor) finite = finite && std::isfinite(v);
+    if (!finite)
+        throw SceneError(name_ + ": " + name + ".pbrMetallicRoughness has a factor that is not finite");
+
+    // The mapping and its reasons: docs/materials.md.
+    const vec3 base(glm::clamp(glm::make_vec3(pbr.baseColorFactor.data()), 0.0, 1.0));
+    const float metallic = float(glm::clamp(pbr.metallicFactor, 0.0, 1.0));
+    const float roughness = float(glm::clamp(pbr.roughnessFactor, 0.0, 1.0));
+    const float alpha = roughness * roughness;
+    Material out;
+    out.name = source.name.empty() ? name : source.name;
+    out.diffuse = base * (1.0f - metallic);
+    out.specular = glm::mix(vec3(0.04f), base, metallic);
+    // Below alpha = 0.0141 the exponent exceeds the clamp's top anyway; testing
+    // first keeps 2 / alpha^2 from dividing by zero.
+    out.shininess = alpha > 0.01f ? glm::clamp(2.0f / (alpha * alpha) - 2.0f, 1.0f, 10000.0f) : 10000.0f;
+    out.reflectance = out.specular * (1.0f - roughness) * (1.0f - roughness);
+    std::string label = name_ + ": " + name;
+    if (!source.name.empty()) label.append(" ").append(in_quotes(source.name));
+    read_dielectric(source, label, scene_, out);
+    if (pbr.baseColorTexture.index >= 0)
+        out.diffuse_texture = texture(pbr.baseColorTexture, name + ".pbrMetallicRoughness.baseColorTexture");
+    if (pbr.metallicRoughnessTexture.index >= 0)
+        scene_.warnings.push_back(name_ + ": " + name +
+                                  ".pbrMetallicRoughness.metallicRoughnessTexture is ignored: the factors "
+                                  "alone set the Phong parameters");
+
+    mapped = int(scene_.materials.size());
+    scene_.materials.push_back(std::move(out));
+    return uint32_t(mapped);
+}
+
+int GltfMaterials::texture(const tinygltf::TextureInfo& info, const std::string& what) {
+    const auto fail = [&](const std::string& problem) { throw SceneError(name_ + ": " + problem); };
+    const auto warn = [&](const std::string& problem) { scene_.warnings.push_back(name_ + ": " + problem); };
+    if (info.texCoord != 0) {
+        warn(what + " uses TEXCOORD_" + std::to_string(info.texCoord) + ", but only TEXCOORD_0 is read: ignored");
+        return -1;
+    }
+    if (size_t(info.index) >= model_.textures.size())
+        fail(what + " refers to texture " + std::to_string(info.index) + ", which does not exist");
+    const tinygltf::Texture& source = model_.textures[size_t(info.index)];
+    const std::string texture_name = at("textures", size_t(info.index));
+    if (source.source < 0) {
+        warn(texture_name + " has no image we can read (an extension's?): ignored");
+        return -1;
+    }
+    if (size_t(source.source) >= model_.images.size())
+        fail(texture_name + ".source refers to image " + std::to_string(source.source) + ", which does not exist");
+
+    Texture::Wrap wrap[2] = {Texture::Wrap::Repeat, Texture::Wrap::Repeat};
+    if (source.sampler >= 0) {
+        if (size_t(source.sampler) >= model_.samplers.size())
+            fail(texture_name + ".sampler refers to sampler " + std::to_string(source.sampler) +
+                 ", which does not exist");
+        const tinygltf::Sampler& sampler = model_.samplers[size_t(source.sampler)];
+        const int modes[2] = {sampler.wrapS, sampler.wrapT};
+        for (int k = 0; k < 2; ++k) {
+            switch (modes[k]) {
+                case TINYGLTF_TEXTURE_WRAP_REPEAT: wrap[k] = Texture::Wrap::Repeat; break;
+                case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: wrap[k] = Texture::Wrap::ClampToEdge; break;
+                case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: wrap[k] = Texture::Wrap::MirroredRepeat; break;
+                default:
+                    fail(at("samplers", size_t(source.sampler)) + " has unknown wrap mode " +
+                         std::to_string(modes[k]));
+            }
+        }
+    }
+    const auto key = std::make_tuple(source.source, int(wrap[0]), int(wrap[1]));
+    if (const auto cached = textures_.find(key); cached != textures_.end()) return cached->second;
+    int& mapped = textures_[key];
+    mapped = -1;
+
+    const tinygltf::Image& image = model_.images[size_t(source.source)];
+    const std::string image_name = at("images", size_t(source.source));
+    std::span<const unsigned char> bytes(image.image);
+    if (image.bufferView >= 0) {
+        // Checked before parsing (gltf_loader.cpp); checked again against the data.
+        if (size_t(image.bufferView) >= model_.bufferViews.size()) fail(image_name + ".bufferView does not exist");
+        const tinygltf::BufferView& view = model_.bufferViews[size_t(image.bufferView)];
+        if (view.buffer < 0 || size_t(view.buffer) >= model_.buffers.size())
+            fail(image_name + ".bufferView refers to a buffer that does not exist");
+        const std::vector<unsigned char>& buffer = model_.buffers[size_t(view.buffer)].data;
+        if (view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset)
+            fail(image_name + ".bufferView does not lie inside its buffer");
+        bytes = std::span<const unsigned char>(buffer).subspan(view.byteOffset, view.byteLength);
+    }
+    if (bytes.empty()) {
+        warn(image_name + " " + in_quotes(image.uri) + " could not be read: texture ignored");
+        return mapped;
+    }
+    std::string problem;
+    std::optional<Texture> decoded = decode_texture(bytes, name_ + ": " + image_name, texel_budget_, problem);
+    if (!decoded) {
+        warn(image_name + " " + problem + ": texture ignored");
+        return mapped;
+    }
+    decoded->wrap_s = wrap[0];
+    decoded->wrap_t = wrap[1];
+    mapped = int(scene_.textures.size());
+    scene_.textures.push_back(std::move(*decoded));
+    return mapped;
+}
+
+}  // namespace rt

@@ -1,0 +1,86 @@
+#include "load/scene_extras.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "util/proto_limits.h"
+#include "rt/scene.pb.h"
+
+namespace rt {
+namespace {
+
+// A repeated field of count 3 (checked by the schema's limits), or `fallback`
+// when absent.
+vec3 vector_or(const google::protobuf::RepeatedField<float>& values, vec3 fallback) {
+    return values.size() == 3 ? vec3(values[0], values[1], values[2]) : fallback;
+}
+
+SceneAdditions::Motion read_motion(const NodeMotion& motion, const std::string& source) {
+    if (motion.node().empty()) throw std::invalid_argument(source + ".node: names no node");
+    SceneAdditions::Motion out{motion.node(), source, {}};
+    const auto& t = motion.translation();
+    if (t.size() == 3) out.close.translation = dvec3(t[0], t[1], t[2]);
+    if (motion.rotation_size() == 4) {
+        // glTF's order: x, y, z, w. Rounded input is made a rotation again.
+        const auto& r = motion.rotation();
+        const dquat q(r[3], r[0], r[1], r[2]);
+        const double length = glm::length(q);
+        if (!(length > 0.0) || !std::isfinite(length))
+            throw std::invalid_argument(source + ".rotation: is not a rotation (a zero quaternion)");
+        out.close.rotation = q / length;
+    }
+    const auto& s = motion.scale();
+    if (s.size() == 3) out.close.scale = dvec3(s[0], s[1], s[2]);
+    return out;
+}
+
+}  // namespace
+
+SceneAdditions read_scene_extras(std::string_view json, const std::string& source) {
+    SceneExtras extras;
+    parse_json_message(json, extras, source);
+    // Absent messages are not checked by the limits: a sphere without a material
+    // gets the schema's default one, and a camera must be given in full.
+    for (int i = 0; i < extras.spheres_size(); ++i)
+        if (!extras.spheres(i).has_material())
+            apply_limits(*extras.mutable_spheres(i)->mutable_material(),
+                         source + ".spheres[" + std::to_string(i) + "].material");
+    for (int i = 0; i < extras.cameras_size(); ++i)
+        if (!extras.cameras(i).has_camera())
+            apply_limits(*extras.mutable_cameras(i)->mutable_camera(),
+                         source + ".cameras[" + std::to_string(i) + "].camera");
+
+    SceneAdditions additions;
+    const Material defaults;
+    for (int i = 0; i < extras.spheres_size(); ++i) {
+        const auto& sphere = extras.spheres(i);
+        const auto& phong = sphere.material();
+        Material material;
+        material.name = source + ".spheres[" + std::to_string(i) + "]";
+        material.diffuse = vector_or(phong.diffuse(), defaults.diffuse);
+        material.specular = vector_or(phong.specular(), defaults.specular);
+        material.shininess = phong.shininess();
+        material.reflectance = vector_or(phong.reflectance(), defaults.reflectance);
+        additions.spheres.push_back(
+            {vector_or(sphere.center(), vec3(0.0f)), sphere.radius(), std::move(material)});
+    }
+    for (int i = 0; i < extras.lights_size(); ++i) {
+        const auto& light = extras.lights(i);
+        const std::string name = source + ".lights[" + std::to_string(i) + "]";
+        const vec3 intensity = vector_or(light.color(), vec3(1.0f)) * light.intensity();
+        if (!is_finite(intensity)) throw std::invalid_argument(name + ": color times intensity is not finite");
+        additions.lights.push_back({name, vector_or(light.position(), vec3(0.0f)), intensity, light.radius()});
+    }
+    if (extras.background_size() == 3) additions.background = vector_or(extras.background(), vec3(0.0f));
+    for (int i = 0; i < extras.cameras_size(); ++i) {
+        const auto& camera = extras.cameras(i);
+        const std::string name =
+            camera.name().empty() ? source + ".cameras[" + std::to_string(i) + "]" : camera.name();
+        additions.cameras.push_back({name, camera.camera()});
+    }
+    for (int i = 0; i < extras.motions_size(); ++i)
+        additions.motions.push_back(read_motion(extras.motions(i), source + ".motions[" + std::to_string(i) + "]"));
+    return additions;
+}
+
+}  // namespace rt
