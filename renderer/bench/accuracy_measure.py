@@ -20,7 +20,7 @@ import flip_evaluator
 import numpy as np
 import rtcore
 from google.protobuf import json_format
-from rt import render_pb2
+from rt import job_pb2, render_pb2
 
 
 @dataclass(frozen=True)
@@ -87,7 +87,8 @@ class Renderer:
         if spec not in self._scenes:
             scene = rtcore.Scene.load(str(spec.path))
             if spec.camera:
-                cameras = dict(scene.cameras)
+                cameras = {c.name: c.camera.SerializeToString()
+                           for c in job_pb2.SceneInfo.FromString(scene.info).cameras}
                 if spec.camera not in cameras:
                     raise SystemExit(f"speed_accuracy: {spec.path.name} has no camera {spec.camera!r} "
                                      f"(it has {', '.join(cameras) or 'none'})")

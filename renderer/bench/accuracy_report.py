@@ -62,25 +62,25 @@ def _curves(result: dict):
 
 
 def equal_error(result: dict) -> list[dict]:
-    """For each curve measured against the same reference as the seed's
-    default, the time it needs to reach that default's error."""
+    """For each curve measured against the same reference as the 2020
+    report's default, the time it needs to reach that default's error."""
     chart = result["chart"]
-    if not chart.seed:
+    if not chart.report:
         return []
-    method, point = chart.seed
+    method, point = chart.report
     against = next(m.references[0] for m in chart.methods if m.key == method)
-    seed = next((r for r in result["rows"] if r["method"] == method and r["point"] == point
-                 and r["reference"] == against), None)
-    if seed is None:
+    report = next((r for r in result["rows"] if r["method"] == method and r["point"] == point
+                   and r["reference"] == against), None)
+    if report is None:
         return []
     table = []
     for m, curve_reference, rows, _ in _curves(result):
         if curve_reference != against:
             continue
-        entry = {"seed": seed, "method": m.key, "label": m.label}
+        entry = {"report": report, "method": m.key, "label": m.label}
         for metric, _ in METRICS:
-            seconds, how = time_to_reach([(r["time_s"], r[metric]) for r in rows], seed[metric])
-            entry[metric] = (seconds, how, seed["time_s"] / seconds if seconds else None)
+            seconds, how = time_to_reach([(r["time_s"], r[metric]) for r in rows], report[metric])
+            entry[metric] = (seconds, how, report["time_s"] / seconds if seconds else None)
         table.append(entry)
     return table
 
@@ -97,14 +97,14 @@ def error_at(points: list[tuple[float, float]], seconds: float) -> float | None:
 
 
 def equal_time(result: dict) -> tuple[float, list[tuple[str, float]]] | None:
-    """The longest time every curve compared with the seed's default reaches,
+    """The longest time every curve compared with the 2020 report's default reaches,
     and each one's RMSE there: where a method stalls at a bias (the frames'
     aliasing) or keeps converging shows at equal time, not at equal error."""
     table = equal_error(result)
     if not table:
         return None
     curves = [(m, rows) for m, against, rows, _ in _curves(result)
-              if against == table[0]["seed"]["reference"] and m.key in {e["method"] for e in table}]
+              if against == table[0]["report"]["reference"] and m.key in {e["method"] for e in table}]
     seconds = min(max(r["time_s"] for r in rows) for _, rows in curves)
     at = [(m.label.split(":")[0], error_at([(r["time_s"], r["rmse"]) for r in rows], seconds)) for m, rows in curves]
     return seconds, [(label, e) for label, e in at if e is not None]
@@ -126,15 +126,17 @@ def headline(result: dict) -> str:
         errors = (f"; RMSE at depth {s['depth']}: {cut['rmse']:.3g} with the cutoff, {off['rmse']:.3g} without"
                   if cut and off else "")
         return (f"the cutoff {s['cutoff']:g} saves {s['saved_percent']:.0f}% of the time at depth {s['depth']} "
-                f"({s['time_with_s']:.3g} s against {s['time_without_s']:.3g} s; the seed claimed a third){errors}")
+                f"({s['time_with_s']:.3g} s against {s['time_without_s']:.3g} s; the 2020 report claimed a third)"
+                f"{errors}")
     table = equal_error(result)
     if not table:
         return ""
-    seed = table[0]["seed"]
-    seed_label = next(m.label for m in chart.methods if m.key == seed["method"]).split(":")[0]
-    others = [f"{e['label'].split(':')[0]} {_reach_text(*e['rmse'])}" for e in table if e["method"] != seed["method"]]
-    line = (f"the seed's default, {seed_label} {seed['point']}, has RMSE {seed['rmse']:.3g} in {seed['time_s']:.3g} s; "
-            f"time to the same RMSE: " + ", ".join(others))
+    report = table[0]["report"]
+    name = next(m.label for m in chart.methods if m.key == report["method"]).split(":")[0]
+    others = [f"{e['label'].split(':')[0]} {_reach_text(*e['rmse'])}" for e in table
+              if e["method"] != report["method"]]
+    line = (f"the 2020 report's default, {name.removesuffix(' (2020 report)')} {report['point']}, has RMSE "
+            f"{report['rmse']:.3g} in {report['time_s']:.3g} s; time to the same RMSE: " + ", ".join(others))
     same_time = equal_time(result)
     if same_time and len(same_time[1]) > 1:
         seconds, errors = same_time
@@ -195,7 +197,8 @@ def _plot_depth_times(ax, result: dict) -> None:
                  fontsize=9)
 
 
-def _plot(result: dict, machine: dict, budget, path: Path) -> None:
+def plot(result: dict, machine: dict, budget, path: Path) -> None:
+    """The chart's PNG: error against time, RMSE and FLIP (and time against depth)."""
     chart = result["chart"]
     panels = 3 if chart.depth else 2
     fig, axes = plt.subplots(1, panels, figsize=(6.2 * panels, 5.2))
@@ -238,14 +241,14 @@ def _markdown(result: dict, machine: dict, budget, line: str) -> str:
     if line:
         out += [f"**Headline**: {line}.", ""]
     out += [f"- {note}" for note in chart.notes] + [""]
-    if chart.seed:
-        out += ["## Time to the seed's default error", "",
+    if chart.report:
+        out += ["## Time to the 2020 report's default error", "",
                 "| method | to the same RMSE (speed-up) | to the same FLIP (speed-up) |", "| --- | --- | --- |"]
         for e in equal_error(result):
             out.append(f"| {e['label']} | {_reach_text(*e['rmse'])} | {_reach_text(*e['flip'])} |")
         others = sorted({m.label for m, against, _, _ in _curves(result)} - {e["label"] for e in equal_error(result)})
         out += ["", "`<=`: already at the cheapest point measured, which is better. Only the curves measured "
-                "against the same reference as the seed's default are compared"
+                "against the same reference as the 2020 report's default are compared"
                 + (f"; left out: {'; '.join(others)}" if others else "") + ".", ""]
     adaptive = any(m.adaptive for m in chart.methods)
     out += ["## Points", "", "| method | point | time (s) | renders timed | RMSE | FLIP |"
@@ -267,7 +270,7 @@ def _markdown(result: dict, machine: dict, budget, line: str) -> str:
         out += ["", "## Time the cutoff saves", "",
                 f"At max_depth {s['depth']}, min_contribution {s['cutoff']:g} against 0: median of {s['pairs']} "
                 f"interleaved pairs, {s['time_with_s']:.4g} s against {s['time_without_s']:.4g} s: "
-                f"**{s['saved_percent']:.1f}% saved** (the seed claimed a third)."]
+                f"**{s['saved_percent']:.1f}% saved** (the 2020 report claimed a third)."]
     return "\n".join(out) + "\n"
 
 
@@ -275,14 +278,14 @@ def write_chart(result: dict, machine: dict, budget, out: Path) -> str:
     """<slug>.png, .csv and .md in `out`; returns the headline."""
     slug = result["chart"].slug
     line = headline(result)
-    _plot(result, machine, budget, out / f"{slug}.png")
+    plot(result, machine, budget, out / f"{slug}.png")
     _write_csv(result, machine, out / f"{slug}.csv")
     (out / f"{slug}.md").write_text(_markdown(result, machine, budget, line))
     return line
 
 
 def _key_figures(result: dict):
-    """The chart's table on the Charts page: time to the seed's error for
+    """The chart's table on the Charts page: time to the 2020 report's error for
     each method, or for the depth charts time and error at each depth."""
     chart = result["chart"]
     if chart.depth:
@@ -297,11 +300,11 @@ def _key_figures(result: dict):
     table = equal_error(result)
     if not table:
         return chart_index.table([], [])
-    seed = table[0]["seed"]
+    report = table[0]["report"]
     seconds, errors = equal_time(result)
     at = dict(errors)
     return chart_index.table(
-        ["method", f"time to RMSE {seed['rmse']:.3g} (speed-up)", f"time to FLIP {seed['flip']:.3g} (speed-up)",
+        ["method", f"time to RMSE {report['rmse']:.3g} (speed-up)", f"time to FLIP {report['flip']:.3g} (speed-up)",
          f"RMSE in {seconds:.3g} s"],
         [[e["label"], _reach_text(*e["rmse"]), _reach_text(*e["flip"]),
           f"{at[e['label'].split(':')[0]]:.3g}" if e["label"].split(":")[0] in at else "-"] for e in table])
@@ -312,7 +315,7 @@ def section(results: list[dict], machine: dict, budget, quick: bool) -> charts_p
     summary = ("For each sampled effect, the error of each method against a converged reference (many samples) "
                "versus its render time, log-log, as RMSE and as mean HDR-FLIP; then what max_depth and the "
                "min_contribution cutoff trade. The tables give the time each method needs to reach the error of "
-               "the seed's default (speed-up against it), and each one's error at the longest time all of them "
+               "the 2020 report's default (speed-up against it), and each one's error at the longest time all of them "
                "were measured at, where a method that stalls at a bias shows. "
                f"Images {budget.width}x{budget.height}; run {machine['run_minutes']} min; "
                "made by renderer/bench/speed_accuracy.py."

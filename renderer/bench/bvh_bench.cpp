@@ -31,8 +31,8 @@
 namespace rt {
 namespace {
 
-// The sample scenes, smallest first within each family (bench/seed_table.py
-// sets them beside the origin document's performance table).
+// The sample scenes, smallest first within each family (bench/report_table.py
+// sets them beside the 2020 report's performance table, docs/origin.md).
 const char* const kScenes[] = {"cornell.obj", "cornell_sphere_light.obj", "smooth_sphere.glb", "bunny.glb",
                                "dragon_4.glb", "dragon_3.glb", "dragon_2.glb", "dragon_1.glb",
                                "teapot.glb", "donut.glb"};

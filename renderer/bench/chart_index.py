@@ -8,6 +8,7 @@ reads the same index.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 from google.protobuf import json_format
@@ -26,6 +27,16 @@ def table(columns: list[str], rows: list[list[object]]) -> charts_pb2.ChartTable
 def machine_line(machine: dict) -> str:
     return (f"{machine['cpu']}, {machine['cores']} cores; {machine['date']}; commit {machine['commit']}; "
             f"load average at start {machine['load_average']}")
+
+
+def machine_from_line(line: str) -> dict:
+    """The machine a section's `machine` line names (the inverse of
+    machine_line), so that a chart redrawn from its CSV keeps the foot it had."""
+    match = re.fullmatch(r"(?P<cpu>.*), (?P<cores>\d+) cores; (?P<date>[^;]*); commit (?P<commit>[^;]*); "
+                         r"load average at start (?P<load_average>.*)", line)
+    if not match:
+        raise ValueError(f"chart_index: not a machine line: {line!r}")
+    return match.groupdict()
 
 
 def save_figure(fig, machine: dict, path: Path, note: str = "") -> None:
@@ -67,7 +78,9 @@ def markdown_table(t: charts_pb2.ChartTable) -> list[str]:
 def readme(index: charts_pb2.ChartIndex) -> str:
     lines = ["# Charts", "",
              "Measured by `make charts` (on a quiet machine: times are wall clock on every core); the viewer shows "
-             "the same at /charts. Each chart has a PNG, a CSV with every point and a Markdown page beside it.", ""]
+             "the same at /charts. Each chart has a PNG, a CSV with every point and a Markdown page beside it. "
+             "The methods marked \"2020 report\" are those of the ray tracer rt started from "
+             "([origin.md](../origin.md)).", ""]
     lines += [f"- [{s.title}](#{s.key.replace('_', '-')})" for s in index.sections] + [""]
     for s in index.sections:
         lines += [f'<a id="{s.key.replace("_", "-")}"></a>', "", f"## {s.title}", "", s.summary, "",

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Scaling: render and BVH build time against triangle count, the seed's
+"""Scaling: render and BVH build time against triangle count, the 2020 report's
 performance table with our figures beside it, and throughput against threads
 and Dask workers with the projected curve for a larger cluster.
 
@@ -9,7 +9,7 @@ the default settings: the BVH build on one thread and on all, the render on all,
 and the BVH nodes visited and triangles tested per ray (rtcore's bvh_cost
 layer over every ray traced). The dragons are one shape at four tessellations,
 so their traversal cost is fitted to a + b log2(triangles). Writes
-scaling_triangles, scaling_seed_table and scaling_throughput (PNG, CSV,
+scaling_triangles, scaling_report_table and scaling_throughput (PNG, CSV,
 Markdown) into --out and the chart index's scaling section.
 """
 
@@ -31,8 +31,8 @@ import rtcore  # noqa: E402
 from rt import charts_pb2, render_pb2  # noqa: E402
 
 import chart_index  # noqa: E402
+import report_table  # noqa: E402
 import scaling_cluster  # noqa: E402
-import seed_table  # noqa: E402
 from accuracy_measure import machine_info  # noqa: E402
 from app.services.tile_plan import TILES_PER_THREAD  # noqa: E402  (scaling_cluster puts server/ on the path)
 
@@ -128,48 +128,69 @@ def triangles_chart(rows: list[dict], size: int, machine: dict, out: Path) -> ch
                             headline=headline, table=table)
 
 
-def seed_chart(rtrender: Path, scenes: Path, work: Path, machine: dict, out: Path,
-               width: int = 800, height: int = 600) -> charts_pb2.Chart:
-    rows = []
-    for name, tris, seconds, levels, file in seed_table.SEED_ROWS:
-        ours = seed_table.render(rtrender, scenes / file, work, width, height)
-        rows.append({"seed_scene": name, "seed_triangles": tris, "seed_time": seconds, "seed_levels": levels,
-                     "scene": file, "triangles": int(ours["tris"]), "depth": int(ours["depth"]),
-                     "build_ms": float(ours["build"]), "render_ms": float(ours["render"])})
+REPORT_COLUMNS = ["2020 report scene", "2020 report triangles", "2020 report time", "2020 report BVH levels",
+                  "our scene", "triangles", "BVH depth", "build ms", "render ms"]
 
-    def seed_ms(text: str) -> float:
+
+def report_chart(rtrender: Path, scenes: Path, work: Path, machine: dict, out: Path,
+                 width: int = 800, height: int = 600) -> charts_pb2.Chart:
+    """The 2020 report's Table 2 (docs/origin.md) with our renders of the
+    sample scenes that stand in for its rows."""
+    rows = []
+    for name, tris, seconds, levels, file in report_table.REPORT_ROWS:
+        ours = report_table.render(rtrender, scenes / file, work, width, height)
+        rows.append({"report_scene": name, "report_triangles": tris, "report_time": seconds,
+                     "report_levels": levels, "scene": file, "triangles": int(ours["tris"]),
+                     "depth": int(ours["depth"]), "build_ms": float(ours["build"]),
+                     "render_ms": float(ours["render"])})
+    draw_report_table(rows, width, height, machine, out)
+    sphere = next(r for r in rows if "sphere light" in r["report_scene"])
+    headline = (f"The 2020 report's slowest row, the Cornell box with a sphere light ({sphere['report_time']}), "
+                f"takes {sphere['render_ms']:.0f} ms here at {width}x{height} with 16 shadow rays per light")
+    table = chart_index.table(
+        REPORT_COLUMNS,
+        [[r["report_scene"], r["report_triangles"], r["report_time"], r["report_levels"], r["scene"],
+          f"{r['triangles']:,}", r["depth"], f"{r['build_ms']:.1f}", f"{r['render_ms']:.1f}"] for r in rows])
+    return charts_pb2.Chart(slug="scaling_report_table",
+                            title="The 2020 report's performance table, with ours beside it",
+                            headline=headline, table=table)
+
+
+def draw_report_table(rows: list[dict], width: int, height: int, machine: dict, out: Path) -> None:
+    def report_ms(text: str) -> float:
         value, unit = text.split()
         return float(value) * (1000 if unit == "s" else 1)
 
     fig, ax = plt.subplots(figsize=(10, 4.8))
     xs = np.arange(len(rows))
-    ax.bar(xs - 0.2, [seed_ms(r["seed_time"]) for r in rows], 0.4, label="origin document, Table 2",
+    ax.bar(xs - 0.2, [report_ms(r["report_time"]) for r in rows], 0.4, label="the 2020 report, Table 2",
            color="#bbbbbb")
     ax.bar(xs + 0.2, [r["render_ms"] for r in rows], 0.4, label=f"rtrender {width}x{height}, all cores",
            color="#1f77b4")
     for x, r in zip(xs, rows):
         ax.annotate(f"{r['render_ms']:.0f} ms", (x + 0.2, r["render_ms"]), ha="center", xytext=(0, 3),
                     textcoords="offset points", fontsize=7)
-        ax.annotate(r["seed_time"], (x - 0.2, seed_ms(r["seed_time"])), ha="center", xytext=(0, 3),
+        ax.annotate(r["report_time"], (x - 0.2, report_ms(r["report_time"])), ha="center", xytext=(0, 3),
                     textcoords="offset points", fontsize=7, color="#555")
-    ax.set_xticks(xs, [f"{r['seed_scene']}\n({r['scene']})" for r in rows], fontsize=7)
+    ax.set_xticks(xs, [f"{r['report_scene']}\n({r['scene']})" for r in rows], fontsize=7)
     ax.set_yscale("log")
     ax.set_ylabel("render time (ms)")
     ax.legend(fontsize=8)
-    ax.set_title("the seed does not give its image size or machine; its sphere-light row samples whole spheres",
+    ax.set_title("the 2020 report gives no image size or machine; its sphere-light row samples whole spheres",
                  fontsize=9)
-    fig.suptitle("The origin document's performance table, with ours beside it")
-    chart_index.save_figure(fig, machine, out / "scaling_seed_table.png")
-    sphere = next(r for r in rows if "sphere light" in r["seed_scene"])
-    headline = (f"The seed's slowest row, the Cornell box with a sphere light ({sphere['seed_time']}), takes "
-                f"{sphere['render_ms']:.0f} ms here at {width}x{height} with 16 shadow rays per light")
-    table = chart_index.table(
-        ["seed scene", "seed triangles", "seed time", "seed BVH levels", "our scene", "triangles", "BVH depth",
-         "build ms", "render ms"],
-        [[r["seed_scene"], r["seed_triangles"], r["seed_time"], r["seed_levels"], r["scene"], f"{r['triangles']:,}",
-          r["depth"], f"{r['build_ms']:.1f}", f"{r['render_ms']:.1f}"] for r in rows])
-    return charts_pb2.Chart(slug="scaling_seed_table", title="The seed's performance table, with ours beside it",
-                            headline=headline, table=table)
+    fig.suptitle("The 2020 report's performance table, with ours beside it")
+    chart_index.save_figure(fig, machine, out / "scaling_report_table.png")
+
+
+def replot_report_table(out: Path, width: int, height: int) -> None:
+    """Redraws scaling_report_table.png from its committed CSV and the
+    machine line in the index, without measuring anything."""
+    with (out / "scaling_report_table.csv").open() as f:
+        table = list(csv.reader(f))[1:]
+    rows = [{"report_scene": c[0], "report_triangles": c[1], "report_time": c[2], "report_levels": c[3],
+             "scene": c[4], "render_ms": float(c[8])} for c in table]
+    section = next(s for s in chart_index.read_index(out).sections if s.key == "scaling")
+    draw_report_table(rows, width, height, chart_index.machine_from_line(section.machine), out)
 
 
 def throughput_chart(t: scaling_cluster.Throughput, machine: dict, out: Path) -> charts_pb2.Chart:
@@ -233,7 +254,12 @@ def main() -> int:
     parser.add_argument("--size", type=int, default=512, help="image size for the triangle-count chart")
     parser.add_argument("--cluster-size", type=int, default=1024, help="image size for the throughput chart")
     parser.add_argument("--quick", action="store_true", help="small images, two scenes: to test the script")
+    parser.add_argument("--replot", action="store_true",
+                        help="only redraw scaling_report_table.png in --out from its CSV (no measuring)")
     args = parser.parse_args()
+    if args.replot:
+        replot_report_table(args.out, *((160, 120) if args.quick else (800, 600)))
+        return 0
     if not (args.scenes / "dragon_1.glb").exists():
         sys.exit(f"scaling: no sample scenes in {args.scenes}: run `make samples`")
     machine = machine_info()
@@ -252,8 +278,8 @@ def main() -> int:
                "median of 3 after a warm-up (of 5 for the Dask runs, the noisiest).")
     charts = [triangles_chart(rows, size, machine, args.out)]
     print(charts[-1].headline, flush=True)
-    charts.append(seed_chart(args.rtrender, args.scenes, args.work, machine, args.out,
-                             *((160, 120) if args.quick else (800, 600))))
+    charts.append(report_chart(args.rtrender, args.scenes, args.work, machine, args.out,
+                               *((160, 120) if args.quick else (800, 600))))
     print(charts[-1].headline, flush=True)
     cluster_size = 128 if args.quick else args.cluster_size
     throughput = scaling_cluster.measure(args.scenes / ("dragon_3.glb" if args.quick else "dragon_1.glb"),

@@ -95,7 +95,7 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
     os.environ["PYTHONPATH"] = os.pathsep.join(
         [str(ROOT / "server"), str(Path(rtcore.__file__).parent)] + [p for p in sys.path if p])
     from distributed import Client, LocalCluster, wait
-    from rt import job_pb2, render_pb2, scene_pb2
+    from rt import job_pb2, render_pb2
 
     from app.services import layer_files
     from app.services.cluster import RenderWorkerSetup
@@ -110,7 +110,7 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
     threads = {n: median_time(lambda n=n: scene.render(camera, settings.SerializeToString(), n, 32), repeats)
                for n in (1, 2)}
     scene_key = f"scaling-{scene_path.name}"
-    pixel_rays = rays_per_pixel(settings, [scene_pb2.LightSpec(radius=light["radius"]) for light in scene.lights])
+    pixel_rays = rays_per_pixel(settings, job_pb2.SceneInfo.FromString(scene.info).lights)
 
     # The tasks write their layers, as the service's do.
     scratch = tempfile.TemporaryDirectory(prefix="rt-scaling-")

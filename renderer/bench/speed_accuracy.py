@@ -2,12 +2,12 @@
 """Speed against accuracy: error against a converged reference versus render time.
 
 For each sampled effect (soft shadows, anti-aliasing, motion blur) on the
-Cornell box and on the dragon, one curve per method: the seed's method beside
-ours, each at a rising number of samples. Error is the RMSE of the linear image
-and the mean HDR-FLIP (NVIDIA's perceptual metric, `flip-evaluator`); time is
-the wall time of rtcore's Scene.render on every core. Then how max_depth and
-the min_contribution cutoff trade time for error, and how much time the cutoff
-saves at the default depth.
+Cornell box and on the dragon, one curve per method: the 2020 report's method
+(docs/origin.md) beside ours, each at a rising number of samples. Error is the
+RMSE of the linear image and the mean HDR-FLIP (NVIDIA's perceptual metric,
+`flip-evaluator`); time is the wall time of rtcore's Scene.render on every
+core. Then how max_depth and the min_contribution cutoff trade time for error,
+and how much time the cutoff saves at the default depth.
 
 Each chart is a PNG with a CSV and a Markdown table beside it (the machine and
 settings recorded), and the chart index (docs/charts/index.json and README.md) lists them all with
@@ -19,6 +19,8 @@ camera, settings and the rtcore build, so that reruns only time the test points.
 from __future__ import annotations
 
 import argparse
+import csv
+import json
 import os
 import statistics
 import sys
@@ -69,7 +71,7 @@ class Chart:
     references: dict[str, Reference]
     methods: list[Method]
     checks: list[Check] = field(default_factory=list)
-    seed: tuple[str, str] | None = None  # (method, point): the seed's default, for the equal-error headline
+    report: tuple[str, str] | None = None  # (method, point): the 2020 report's default, for the equal-error headline
     notes: list[str] = field(default_factory=list)
     depth: bool = False                  # the depth/cutoff chart
 
@@ -101,7 +103,7 @@ NORMAL = Budget(width=320, height=240, light_samples=(1, 2, 4, 8, 16, 32, 64, 12
                 adaptive_cap=256, grid_k=(2, 3, 4, 6, 8, 12), frames=(2, 4, 8, 16, 32, 64, 128),
                 depths=(0, 1, 2, 3, 4, 5, 6, 8, 16), ref_light_samples=4096, ref_spp=2048, ref_frames=1024,
                 check_grid_k=32, check_frames=(32, 32), saving_pairs=9, repeats=True)
-# Seconds: to test the script. Keeps the seed's defaults (16 shadow rays, 2x2, 16 frames) among the points.
+# Seconds: to test the script. Keeps the 2020 report's defaults (16 shadow rays, 2x2, 16 frames) among the points.
 QUICK = Budget(width=64, height=48, light_samples=(1, 4, 16), pixel_spp=(4, 16), adaptive_thresholds=(0.2, 0.05),
                adaptive_cap=64, grid_k=(2, 4), frames=(2, 16), depths=(0, 1, 5), ref_light_samples=1024,
                ref_spp=256, ref_frames=256, check_grid_k=16, check_frames=(16, 16), saving_pairs=3, repeats=False)
@@ -120,7 +122,7 @@ def soft_shadow_chart(slug: str, scene: SceneSpec, note: str, b: Budget) -> Char
                                   {"samples_per_pixel": b.ref_spp, "light_samples": 2}),
         },
         methods=[
-            Method("sphere", "sphere (seed): N rays at 1 spp", ("centre",),
+            Method("sphere", "whole sphere (2020 report): N rays at 1 spp", ("centre",),
                    [(f"N={n}", {"light_sampling": "SPHERE", "light_samples": n}) for n in b.light_samples]),
             Method("cone", "cone: N rays at 1 spp", ("centre",),
                    [(f"N={n}", {"light_samples": n}) for n in b.light_samples]),
@@ -133,7 +135,7 @@ def soft_shadow_chart(slug: str, scene: SceneSpec, note: str, b: Budget) -> Char
         checks=[Check(f"sphere, {b.ref_light_samples} shadow rays at 1 spp",
                       {"light_sampling": "SPHERE", "light_samples": b.ref_light_samples}, "centre",
                       "sphere and cone sampling should converge to the same image")],
-        seed=("sphere", "N=16"),
+        report=("sphere", "N=16"),
         notes=["Every sampler here is stratified (Owen-scrambled Sobol'); there is no setting for independent "
                "samples, so no unstratified curve. `cone` takes its N rays from one camera sample through the "
                "pixel centre (N points of one stratified set over the light); `cone over pixel samples` takes "
@@ -154,7 +156,7 @@ def aa_chart(slug: str, scene: SceneSpec, note: str, b: Budget) -> Chart:
             "gaussian": Reference(f"Gaussian filter, {b.ref_spp} spp", {"samples_per_pixel": b.ref_spp}),
         },
         methods=[
-            Method("grid", "grid (seed): k x k sub-pixel centres", ("box",),
+            Method("grid", "grid (2020 report): k x k sub-pixel centres", ("box",),
                    [(f"{n}x{n}", {"pixel_filter": "GRID", "samples_per_pixel": n * n}) for n in b.grid_k]),
             Method("box", "box filter: N stratified spp", ("box",),
                    [(f"N={n}", {"pixel_filter": "BOX", "samples_per_pixel": n}) for n in b.pixel_spp]),
@@ -167,7 +169,7 @@ def aa_chart(slug: str, scene: SceneSpec, note: str, b: Budget) -> Chart:
         checks=[Check(f"grid {k}x{k}", {"pixel_filter": "GRID", "samples_per_pixel": k * k}, "box",
                       "the grid's sub-pixel centres and the box filter's stratified samples should "
                       "converge to the same box-filtered image")],
-        seed=("grid", "2x2"),
+        report=("grid", "2x2"),
         notes=["The grid and box curves converge to the same box-filtered image; the Gaussian filter "
                "(the default) converges to a softer one, so it has its own reference: its error measures its "
                "noise, not how sharp it is."])
@@ -183,7 +185,7 @@ def motion_chart(slug: str, scene: SceneSpec, note: str, b: Budget) -> Chart:
             "time": Reference(f"time-sampled, {b.ref_spp} spp (Gaussian filter)", {"samples_per_pixel": b.ref_spp}),
         },
         methods=[
-            Method("frames", "frames (seed): K renders at 1 spp", ("time", "frames"),
+            Method("frames", "frames (2020 report): K renders at 1 spp", ("time", "frames"),
                    [(f"K={k}", {"motion_blur": "FRAMES", "motion_frames": k}) for k in b.frames]),
             Method("time", "time-sampled: N spp", ("time",),
                    [(f"N={n}", {"samples_per_pixel": n}) for n in b.pixel_spp]),
@@ -195,7 +197,7 @@ def motion_chart(slug: str, scene: SceneSpec, note: str, b: Budget) -> Chart:
                 Check(f"frames reference ({b.ref_frames} at 1 spp)",
                       {"motion_blur": "FRAMES", "motion_frames": b.ref_frames}, "time",
                       "not a bias of the blur: pixel centres against the Gaussian filter (aliasing)")],
-        seed=("frames", "K=16"),
+        report=("frames", "K=16"),
         notes=["Frames at 1 spp sample each pixel at its centre, so they converge to an aliased blur; "
                "time samples are spread over the Gaussian filter as well as over the shutter interval, and "
                "converge to the blurred, anti-aliased image (the reference `time`). The frames are measured "
@@ -235,7 +237,8 @@ def plan(scenes: Path, work: Path, dragon: str, b: Budget) -> list[Chart]:
                  f"{dragon} with its point light", b),
         motion_chart("motion_cornell", SceneSpec("cornell_motion.obj, camera look_shift",
                                                  scenes / "cornell_motion.obj", "look_shift"),
-                     "the short box slides and turns and the camera's look-at point shifts by 0.15 (the seed's)", b),
+                     "the short box slides and turns and the camera's look-at point shifts by 0.15 "
+                     "(as in the 2020 report)", b),
         motion_chart("motion_dragon", SceneSpec(f"{name}.glb, moving", moving),
                      f"{dragon} turning {motion['turn_degrees']:g} degrees about +Y and sliding "
                      f"{motion['translation'][0]} along +X "
@@ -308,6 +311,39 @@ def cutoff_saving(renderer: Renderer, chart: Chart, b: Budget) -> dict:
     return saving
 
 
+CHART_KINDS = {"soft_shadows": soft_shadow_chart, "antialiasing": aa_chart, "motion": motion_chart}
+
+
+def replot(out: Path, only: str) -> int:
+    """Redraws the PNGs of the sampling charts in `out` from their committed
+    CSVs, with the legends and titles of the charts as defined here: nothing
+    is rendered. The depth charts are left alone (their third panel needs the
+    cutoff's time saving, which their CSV does not keep)."""
+    section = next((s for s in chart_index.read_index(out).sections if s.key == "speed_accuracy"), None)
+    redrawn = 0
+    for path in sorted(out.glob("*.csv")):
+        kind = next((k for k in CHART_KINDS if path.stem.startswith(k + "_")), None)
+        if kind is None or only not in path.stem:
+            continue
+        with path.open() as f:
+            rows = list(csv.DictReader(f))
+        if not rows or rows[0]["chart"] != path.stem:
+            continue
+        base = json.loads(rows[0]["settings"])
+        budget = QUICK if base["width"] == QUICK.width else NORMAL
+        chart = CHART_KINDS[kind](path.stem, SceneSpec(rows[0]["scene"], Path(rows[0]["scene"])), "", budget)
+        labels = {m.key: m.label for m in chart.methods}
+        result = {"chart": chart, "rows": [
+            {**r, "label": labels[r["method"]], "time_s": float(r["time_s"]), "rmse": float(r["rmse"]),
+             "flip": float(r["flip"]), "settings": json.loads(r["settings"])} for r in rows]}
+        machine = chart_index.machine_from_line(section.machine) if section else {"load_average": "?"}
+        machine.update({k: rows[0][k] for k in ("cpu", "cores", "commit", "date")})
+        accuracy_report.plot(result, machine, budget, out / f"{path.stem}.png")
+        print(f"redrew {path.stem}.png from {path.name}")
+        redrawn += 1
+    return redrawn
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--scenes", type=Path, default=Path("build/scenes"), help="the sample scenes (make samples)")
@@ -319,7 +355,12 @@ def main() -> int:
     parser.add_argument("--quick", action="store_true",
                         help=f"{QUICK.width}x{QUICK.height}, 2-3 points per curve, no repeats: to test the script")
     parser.add_argument("--only", default="", help="only the charts whose name contains this")
+    parser.add_argument("--replot", action="store_true",
+                        help="only redraw the sampling charts' PNGs in --out (default docs/charts) from their "
+                        "CSVs, rendering nothing")
     args = parser.parse_args()
+    if args.replot:
+        return 0 if replot(args.out or Path("docs/charts"), args.only) else 1
     if not (args.scenes / "cornell.obj").exists():
         sys.exit(f"speed_accuracy: no sample scenes in {args.scenes}: run `make samples`")
     budget = QUICK if args.quick else NORMAL

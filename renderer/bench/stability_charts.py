@@ -4,14 +4,16 @@
 Runs stability_table (bench/stability_table.cpp: the same probes as the
 ctest Stability suite, whose hard limits keep ours at zero) and draws
 - self-intersection against scene scale: the share of wrongly shadowed and of
-  wrongly lit pixels for the seed's fixed epsilon (1e-3), for 1e-5 and for ours;
+  wrongly lit pixels for the 2020 report's fixed epsilon (1e-3), for 1e-5 and
+  for ours;
 - leaks through shared edges and vertices of closed meshes: a plain
   Moller-Trumbore test against ours, one million rays;
 - the depth bound: the most rays a camera sample traced between facing mirrors
   and through nested glass against the bound the settings allow, and the time;
   with the count of NaN/Inf pixels over the degenerate cases beside it.
 Each chart gets a PNG, a CSV and a Markdown page in --out, and the chart
-index's stability section (chart_index.py).
+index's stability section (chart_index.py); --replot redraws the PNGs from
+those CSVs without measuring.
 """
 
 from __future__ import annotations
@@ -33,7 +35,7 @@ from rt import charts_pb2  # noqa: E402
 import chart_index  # noqa: E402
 from accuracy_measure import machine_info  # noqa: E402
 
-METHOD_LABELS = {"eps_1e-3": "fixed epsilon 1e-3 (the seed)", "eps_1e-5": "fixed epsilon 1e-5",
+METHOD_LABELS = {"eps_1e-3": "fixed epsilon 1e-3 (the 2020 report's)", "eps_1e-5": "fixed epsilon 1e-5",
                  "ours": "ours: offset by the hit's error bound", "moller_trumbore": "Moller-Trumbore",
                  "ours_watertight": "ours: watertight"}
 STYLE = {"eps_1e-3": ("o", "#d62728"), "eps_1e-5": ("s", "#ff7f0e"), "ours": ("^", "#2ca02c")}
@@ -68,7 +70,7 @@ def self_intersection_chart(rows: list[dict], machine: dict, out: Path) -> chart
     scales = sorted({float(r["scale"]) for r in rows})
     ours_bad = worst("ours", "wrongly_shadowed") + worst("ours", "wrongly_lit")
     headline = (f"Ours: {'no' if ours_bad == 0 else f'{ours_bad:.3g}%'} wrong pixels at every scale from "
-                f"{scales[0]:g} to {scales[-1]:g}; the seed's epsilon 1e-3 shadows up to "
+                f"{scales[0]:g} to {scales[-1]:g}; the 2020 report's epsilon 1e-3 shadows up to "
                 f"{worst('eps_1e-3', 'wrongly_shadowed'):.3g}% of lit pixels at large scales and lights up to "
                 f"{worst('eps_1e-3', 'wrongly_lit'):.3g}% of shadowed ones at small scales")
     table = chart_index.table(
@@ -188,13 +190,39 @@ def write_pages(chart: charts_pb2.Chart, csv_sources: list[Path], summary: str, 
     (out / f"{chart.slug}.md").write_text("\n".join(lines))
 
 
+def replot(out: Path, only: str) -> None:
+    """Redraws the charts' PNGs from the CSVs write_pages left in `out` (the
+    depth chart's holds two tables, a blank line apart), with the foot of the
+    run that measured them."""
+    def tables(slug: str) -> list[list[dict]]:
+        text = (out / f"{slug}.csv").read_text()
+        return [list(csv.DictReader(part.strip("\n").splitlines())) for part in text.split("\n\n")]
+
+    section = next(s for s in chart_index.read_index(out).sections if s.key == "stability")
+    machine = chart_index.machine_from_line(section.machine)
+    draw = {"stability_self_intersection": lambda: self_intersection_chart(tables("stability_self_intersection")[0],
+                                                                           machine, out),
+            "stability_edge_leaks": lambda: edge_leak_chart(tables("stability_edge_leaks")[0], machine, out),
+            "stability_depth_bound": lambda: depth_chart(*tables("stability_depth_bound"), machine, out)}
+    for slug, redraw in draw.items():
+        if only in slug:
+            redraw()
+            print(f"redrew {slug}.png from {slug}.csv")
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--table", type=Path, default=Path("build/renderer/stability_table"),
                         help="the stability_table program (make build)")
     parser.add_argument("--out", type=Path, default=Path("docs/charts"))
     parser.add_argument("--cache", type=Path, default=Path("build/charts/stability"), help="its CSV output")
+    parser.add_argument("--replot", action="store_true",
+                        help="only redraw the PNGs in --out from their CSVs there (no measuring)")
+    parser.add_argument("--only", default="", help="with --replot: only the charts whose name contains this")
     args = parser.parse_args()
+    if args.replot:
+        replot(args.out, args.only)
+        return 0
     if not args.table.exists():
         sys.exit(f"stability_charts: no {args.table}: run `make build`")
     machine = machine_info()

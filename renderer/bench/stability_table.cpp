@@ -10,7 +10,7 @@
 // self_intersection.csv: scale,method,wrongly_shadowed,wrongly_lit
 //   scale: every coordinate of the scenes times this (1e-4 to 1e6).
 //   method: where the shadow ray starts: eps_1e-3 and eps_1e-5 step that far
-//     towards the light (the seed's method), ours offsets by the hit point's
+//     towards the light (the 2020 report's method), ours offsets by the hit point's
 //     rounding-error bound (spawn.h).
 //   wrongly_shadowed: share of the camera rays' hits on a plane, a cube and an
 //     icosphere (each alone, so nothing facing the light is in shadow) whose

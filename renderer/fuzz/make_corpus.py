@@ -859,7 +859,7 @@ def sidecar_cases(c: Corpus) -> None:
         ("background_string", changed(background="black"), "background"),
         ("camera_no_camera", changed(cameras=[{"name": "x"}]), ""),
         ("camera_fov_0", changed(cameras=[{"camera": {"position": [0, 0, 3], "target": [0, 0, 0], "up": [0, 1, 0],
-                                                      "fov_y": 0}}]), "fovY"),
+                                                      "fov_y": 0}}]), "fov_y"),
         # Cameras are checked when a render uses them (camera.cpp), not when loaded.
         ("camera_collapsed", changed(cameras=[{"camera": {"position": [0, 0, 0], "target": [0, 0, 0],
                                                           "up": [0, 1, 0]}}]), "any"),

@@ -15,10 +15,12 @@
 #include <nanobind/stl/tuple.h>
 #include <nanobind/stl/vector.h>
 
+#include "image/aov.h"
 #include "load/loader.h"
 #include "util/proto_limits.h"
 #include "integrator/render.h"
 #include "rt/job.pb.h"
+#include "rtcore_convert.h"
 #include "rtcore_image.h"
 #include "rtcore_scene.h"
 #include "util/thread_pool.h"
@@ -29,24 +31,32 @@ using rtcore::PyScene;
 
 namespace {
 
-// The JSON form of any rt message, checked against the schema's limits with its
-// defaults filled in, returned serialized. The server validates request bodies
-// here so that C++ and Python refuse exactly the same values.
-nb::bytes parse_message(const std::string& type_name, const std::string& json, const std::string& path) {
+// The JSON form of any rt message, returned serialized: with `limits`, checked
+// against the schema's limits with its defaults filled in, so that C++ and
+// Python refuse exactly the same values; without, only read (field names and
+// types), for a render request that its scene then completes (Scene.complete).
+nb::bytes parse_message(const std::string& type_name, const std::string& json, const std::string& path,
+                        bool limits) {
+    const auto message = rtcore::new_message(type_name);
+    if (limits)
+        rt::parse_json_message(json, *message, path);
+    else
+        rt::read_json_message(json, *message, path);
+    return rtcore::to_bytes(*message);
+}
+
+}  // namespace
+
+std::unique_ptr<google::protobuf::Message> rtcore::new_message(const std::string& type_name) {
     // Naming the messages links their generated code, which registers them.
     static const google::protobuf::Descriptor* const linked[] = {
         rt::JobRequest::descriptor(), rt::DebugRayRequest::descriptor(), rt::SceneExtras::descriptor()};
     (void)linked;
     const auto* descriptor = google::protobuf::DescriptorPool::generated_pool()->FindMessageTypeByName(type_name);
     if (!descriptor) throw std::invalid_argument("unknown message type " + type_name);
-    std::unique_ptr<google::protobuf::Message> message(
+    return std::unique_ptr<google::protobuf::Message>(
         google::protobuf::MessageFactory::generated_factory()->GetPrototype(descriptor)->New());
-    rt::parse_json_message(json, *message, path);
-    const std::string data = message->SerializeAsString();
-    return nb::bytes(data.data(), data.size());
 }
-
-}  // namespace
 
 NB_MODULE(rtcore, m) {
     m.doc() = "The rt ray tracer: scene loading, tile rendering, ray queries and debugger exports.";
@@ -66,9 +76,13 @@ NB_MODULE(rtcore, m) {
         .def("request_stop", &std::stop_source::request_stop, "True for the call that made the request.")
         .def_prop_ro("stop_requested", &std::stop_source::stop_requested);
 
-    m.def("parse_message", &parse_message, "type_name"_a, "json"_a, "path"_a = "body",
+    m.def("parse_message", &parse_message, "type_name"_a, "json"_a, "path"_a = "body", nb::kw_only(),
+          "limits"_a = true,
           "Parses the JSON form of an rt message (e.g. 'rt.JobRequest'), fills the schema's defaults and "
-          "checks its limits: the serialized message, or ValueError naming the field.");
+          "checks its limits: the serialized message, or ValueError naming the field. limits=False only "
+          "reads it (field names and types), for Scene.complete to finish.");
+    m.def("aux_channel_count", [](const std::string& name) { return rt::aux_channel_count(rt::parse_aux_output(name)); },
+          "name"_a, "Values per pixel of an auxiliary layer ('depth': 1, 'normal': 3, ...), as render_tile returns it.");
     rtcore::bind_images(m);
     m.def("set_render_threads", &rt::set_render_threads, "threads"_a,
           "Sizes the pool of threads Scene.render_tile renders on (0: all cores); renders already running "
@@ -81,19 +95,21 @@ NB_MODULE(rtcore, m) {
                     "Loads a .gltf, .glb or .obj file (and its .rt.json sidecar) and builds its BVH.")
         .def_static("from_bytes", &PyScene::from_bytes, "data"_a, "name"_a, "threads"_a = 0,
                     "Loads a scene held in memory; `name`'s extension gives the format.")
+        .def_prop_ro("info", &PyScene::info,
+                     "What the renderer knows of the scene, as a serialized rt.SceneInfo: triangle and sphere "
+                     "counts, degenerate triangles dropped, bounds, lights, named cameras, the default camera "
+                     "and the loader's warnings (the service fills in the rest).")
         .def_prop_ro("triangle_count", &PyScene::triangle_count)
-        .def_prop_ro("sphere_count", &PyScene::sphere_count)
-        .def_prop_ro("degenerate_triangles", &PyScene::degenerate_triangles)
-        .def_prop_ro("warnings", &PyScene::warnings)
-        .def_prop_ro("bounds", &PyScene::bounds, "(min, max) corners of the scene's bounding box.")
-        .def_prop_ro("cameras", &PyScene::cameras, "[(name, serialized rt.Camera)]")
         .def_prop_ro("default_camera", &PyScene::default_camera, "Serialized rt.Camera used when none is given.")
-        .def_prop_ro("lights", &PyScene::lights)
         .def_prop_ro("bvh_stats", &PyScene::bvh_stats)
         .def("to_glb", &PyScene::to_glb,
              "The scene as the renderer sees it, as binary glTF 2.0 (GLB) bytes, for the viewer (GIL released).")
-        .def("check", &PyScene::check, "camera"_a, "settings"_a,
-             "Raises ValueError naming what the renderer refuses in the camera or settings; renders nothing.")
+        .def("complete", &PyScene::complete, "type_name"_a, "data"_a,
+             "A render request (an rt message with camera and settings, e.g. 'rt.JobRequest'; serialized or "
+             "JSON, as parse_message(..., limits=False) reads it) completed and checked once for this scene: an "
+             "absent camera is the scene's default view, absent settings the schema's defaults, every field within "
+             "its limits and the camera and settings as the renderer takes them. The serialized message, or "
+             "ValueError naming the field.")
         .def("render_tile", &PyScene::render_tile, "camera"_a, "settings"_a, "x"_a, "y"_a, "width"_a, "height"_a,
              nb::kw_only(), "aux"_a = nb::none(), "scale"_a = 1, "known"_a = nb::none(), "known_stride"_a = 0,
              "stop"_a = nb::none(),

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <initializer_list>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -25,24 +26,32 @@ nb::ndarray<nb::numpy, T> to_numpy(std::vector<T>&& values, std::initializer_lis
 }
 
 // bytes: the serialized message; str: its JSON form; None: all defaults.
-template <class Message>
-Message read_message(const nb::handle& value, const char* path) {
-    Message message;
+// Read, not checked: what takes the message checks it once (the Renderer
+// applies the schema's limits to its camera and settings).
+inline void read_message(const nb::handle& value, google::protobuf::Message& message, const char* path) {
+    const std::string& type = message.GetDescriptor()->full_name();
     if (value.is_none()) {
     } else if (nb::isinstance<nb::bytes>(value)) {
         const auto data = nb::borrow<nb::bytes>(value);
         if (!message.ParseFromArray(data.c_str(), int(data.size())))
-            throw std::invalid_argument(std::string(path) + ": not a serialized " + Message::descriptor()->full_name());
+            throw std::invalid_argument(std::string(path) + ": not a serialized " + type);
     } else if (nb::isinstance<nb::str>(value)) {
-        rt::parse_json_message(nb::borrow<nb::str>(value).c_str(), message, path);
-        return message;
+        rt::read_json_message(nb::borrow<nb::str>(value).c_str(), message, path);
     } else {
-        throw std::invalid_argument(std::string(path) + ": expected bytes (serialized " +
-                                    Message::descriptor()->full_name() + ") or str (its JSON form)");
+        throw std::invalid_argument(std::string(path) + ": expected bytes (serialized " + type +
+                                    ") or str (its JSON form)");
     }
-    rt::apply_limits(message, path);
+}
+
+template <class Message>
+Message read_message(const nb::handle& value, const char* path) {
+    Message message;
+    read_message(value, message, path);
     return message;
 }
+
+// An empty message of the rt type named `type_name` (e.g. "rt.JobRequest").
+std::unique_ptr<google::protobuf::Message> new_message(const std::string& type_name);
 
 template <class Message>
 nb::bytes to_bytes(const Message& message) {

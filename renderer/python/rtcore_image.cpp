@@ -79,16 +79,10 @@ void write_exr(const std::string& path, const Rgb& color, const std::map<std::st
         if (layer.size() != values)
             throw std::invalid_argument("write_exr: layer '" + name + "' has " + std::to_string(layer.size()) +
                                         " values, the image needs " + std::to_string(values));
-        const float* in = layer.data();
-        switch (output) {
-            case rt::DEPTH: std::copy(in, in + values, layers.depth.begin()); break;
-            case rt::NORMAL: std::copy(in, in + values, layers.normal.begin()); break;
-            case rt::ALBEDO: std::copy(in, in + values, layers.albedo.begin()); break;
-            case rt::BVH_COST:
-                std::transform(in, in + values, layers.bvh_cost.begin(), [](float v) { return uint32_t(v); });
-                break;
-            default: break;
-        }
+        layers.with_layer(output, [&](auto& out) {
+            using T = typename std::decay_t<decltype(out)>::value_type;
+            std::transform(layer.data(), layer.data() + values, out.begin(), [](float v) { return T(v); });
+        });
     }
     nb::gil_scoped_release release;
     rt::write_image(path, image, outputs.empty() ? nullptr : &layers);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "image/aov.h"
+#include "integrator/default_camera.h"
 #include "integrator/render.h"
 #include "rtcore_convert.h"
 #include "rtcore_scene.h"
@@ -60,24 +61,51 @@ void place_known(nb::handle known, uint32_t stride, const rt::TileRect& tile, st
                             target + (j * stride * tile.width + i * stride) * channels);
     };
     place("color", rgb.data(), 3);
-    for (rt::AuxOutput output : layers.outputs()) {
-        const std::string name = rt::aux_name(output);
-        switch (output) {
-            case rt::DEPTH: place(name.c_str(), layers.depth.data(), 1); break;
-            case rt::NORMAL: place(name.c_str(), layers.normal.data(), 3); break;
-            case rt::ALBEDO: place(name.c_str(), layers.albedo.data(), 3); break;
-            default: place(name.c_str(), layers.bvh_cost.data(), 2); break;
-        }
-    }
+    for (rt::AuxOutput output : layers.outputs())
+        layers.with_layer(output, [&](auto& values) {
+            place(rt::aux_name(output).c_str(), values.data(), rt::aux_channel_count(output));
+        });
 }
 
 }  // namespace
 
+rt::Renderer PyScene::renderer(nb::handle camera, nb::handle settings) const {
+    return rt::Renderer(*accel_, read_message<rt::RenderSettings>(settings, "settings"),
+                        read_message<rt::Camera>(camera, "camera"));
+}
+
+nb::bytes PyScene::complete(const std::string& type_name, nb::handle data) const {
+    const auto request = new_message(type_name);
+    read_message(data, *request, "body");
+    const auto* descriptor = request->GetDescriptor();
+    const auto* camera_field = descriptor->FindFieldByName("camera");
+    const auto* settings_field = descriptor->FindFieldByName("settings");
+    if (!camera_field || camera_field->message_type() != rt::Camera::descriptor() || !settings_field ||
+        settings_field->message_type() != rt::RenderSettings::descriptor())
+        throw std::invalid_argument(type_name + " is not a render request: it needs a camera and settings");
+    const auto* reflection = request->GetReflection();
+    rt::Camera camera = reflection->HasField(*request, camera_field)
+                            ? static_cast<const rt::Camera&>(reflection->GetMessage(*request, camera_field))
+                            : rt::default_camera(*scene_);
+    rt::RenderSettings settings;
+    if (reflection->HasField(*request, settings_field))
+        settings.CopyFrom(reflection->GetMessage(*request, settings_field));
+    // The request's own fields by the schema's limits, then its camera and
+    // settings by the renderer, which applies their limits and its own checks:
+    // each value is checked once.
+    reflection->ClearField(request.get(), camera_field);
+    reflection->ClearField(request.get(), settings_field);
+    rt::apply_limits(*request, "");
+    const rt::Renderer checked(*accel_, std::move(settings), std::move(camera));
+    reflection->MutableMessage(request.get(), camera_field)->CopyFrom(checked.camera());
+    reflection->MutableMessage(request.get(), settings_field)->CopyFrom(checked.settings());
+    return to_bytes(*request);
+}
+
 nb::object PyScene::render_tile(nb::handle camera, nb::handle settings, uint32_t x, uint32_t y, uint32_t width,
                                 uint32_t height, nb::handle aux, uint32_t scale, nb::handle known,
                                 uint32_t known_stride, const std::stop_source* stop) const {
-    const rt::Renderer renderer(*accel_, read_message<rt::RenderSettings>(settings, "settings"),
-                                read_message<rt::Camera>(camera, "camera"));
+    const rt::Renderer renderer = this->renderer(camera, settings);
     const rt::TileRect tile{x, y, width, height};
     renderer.check_tile(tile, scale);
     const std::vector<rt::AuxOutput> outputs = aux.is_none() ? std::vector<rt::AuxOutput>{} : read_aux(aux);
@@ -105,30 +133,20 @@ nb::object PyScene::render_tile(nb::handle camera, nb::handle settings, uint32_t
 
     nb::dict result;
     result["color"] = color;
-    for (rt::AuxOutput output : layers.outputs()) {
-        const std::string key = rt::aux_name(output);
-        switch (output) {
-            case rt::DEPTH: result[key.c_str()] = to_numpy(std::move(layers.depth), {h, w}); break;
-            case rt::NORMAL: result[key.c_str()] = to_numpy(std::move(layers.normal), {h, w, 3}); break;
-            case rt::ALBEDO: result[key.c_str()] = to_numpy(std::move(layers.albedo), {h, w, 3}); break;
-            default: result[key.c_str()] = to_numpy(std::move(layers.bvh_cost), {h, w, 2}); break;
-        }
-    }
+    for (rt::AuxOutput output : layers.outputs())
+        layers.with_layer(output, [&](auto& values) {
+            const size_t channels = rt::aux_channel_count(output);
+            result[rt::aux_name(output).c_str()] = channels == 1 ? nb::cast(to_numpy(std::move(values), {h, w}))
+                                                                 : nb::cast(to_numpy(std::move(values), {h, w, channels}));
+        });
     result["rays"] = stats.rays.total();
     result["samples"] = stats.samples;
     return result;
 }
 
-void PyScene::check(nb::handle camera, nb::handle settings) const {
-    // Constructing the renderer is what checks them: limits, camera, filter.
-    const rt::Renderer renderer(*accel_, read_message<rt::RenderSettings>(settings, "settings"),
-                                read_message<rt::Camera>(camera, "camera"));
-}
-
 nb::ndarray<nb::numpy, float> PyScene::render(nb::handle camera, nb::handle settings, unsigned threads,
                                               uint32_t tile_size) const {
-    const rt::Renderer renderer(*accel_, read_message<rt::RenderSettings>(settings, "settings"),
-                                read_message<rt::Camera>(camera, "camera"));
+    const rt::Renderer renderer = this->renderer(camera, settings);
     rt::Image image;
     {
         nb::gil_scoped_release release;
@@ -140,8 +158,7 @@ nb::ndarray<nb::numpy, float> PyScene::render(nb::handle camera, nb::handle sett
 }
 
 nb::bytes PyScene::debug_path(nb::handle camera, nb::handle settings, uint32_t x, uint32_t y) const {
-    const rt::Renderer renderer(*accel_, read_message<rt::RenderSettings>(settings, "settings"),
-                                read_message<rt::Camera>(camera, "camera"));
+    const rt::Renderer renderer = this->renderer(camera, settings);
     rt::DebugPath path;
     {
         nb::gil_scoped_release release;

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
-#include <thread>
 
 #include <nanobind/stl/pair.h>
 #include <nanobind/stl/string.h>
@@ -13,23 +12,22 @@
 #include "export/glb_export.h"
 #include "load/loader.h"
 #include "integrator/render.h"
+#include "rt/job.pb.h"
 #include "rtcore_convert.h"
+#include "util/thread_pool.h"
 
 namespace rtcore {
 namespace {
 
 using Distances = nb::ndarray<const float, nb::shape<-1>, nb::c_contig, nb::device::cpu>;
 
-// Runs body(begin, end) over [0, n) on `threads` threads.
+// Runs body(begin, end) over [0, n) on `threads` threads (rt::parallel_for),
+// in one chunk per thread and no more threads than chunks of 4096 rays.
 template <class Body>
 void parallel_for(size_t n, unsigned threads, Body body) {
-    const size_t workers = std::min<size_t>(rt::resolve_thread_count(threads), std::max<size_t>(1, n / 4096));
-    std::vector<std::thread> pool;
-    const size_t chunk = (n + workers - 1) / std::max<size_t>(workers, 1);
-    for (size_t w = 1; w < workers; ++w)
-        pool.emplace_back(body, std::min(n, w * chunk), std::min(n, (w + 1) * chunk));
-    body(0, std::min(n, chunk));
-    for (auto& t : pool) t.join();
+    const size_t chunks = std::min<size_t>(rt::resolve_thread_count(threads), std::max<size_t>(1, n / 4096));
+    const size_t chunk = (n + chunks - 1) / chunks;
+    rt::parallel_for(threads, chunks, [&](size_t c) { body(std::min(n, c * chunk), std::min(n, (c + 1) * chunk)); });
 }
 
 std::vector<rt::Ray> read_rays(const Points& origins, const Points& directions, const nb::handle& t_max) {
@@ -76,31 +74,36 @@ PyScene* PyScene::from_bytes(const nb::bytes& data, const std::string& name, uns
     return new PyScene(rt::load_scene_from_memory(copy, name), threads);
 }
 
-std::pair<std::vector<float>, std::vector<float>> PyScene::bounds() const {
-    const rt::Bounds3 b = scene_->bounds();
-    return {{b.min.x, b.min.y, b.min.z}, {b.max.x, b.max.y, b.max.z}};
-}
-
-std::vector<std::pair<std::string, nb::bytes>> PyScene::cameras() const {
-    std::vector<std::pair<std::string, nb::bytes>> out;
-    for (const auto& c : scene_->cameras) out.emplace_back(c.name, to_bytes(c.camera));
-    return out;
+nb::bytes PyScene::info() const {
+    const auto add_vec3 = [](google::protobuf::RepeatedField<float>* field, rt::vec3 v) {
+        for (float f : {v.x, v.y, v.z}) field->Add(f);
+    };
+    rt::SceneInfo info;
+    info.set_triangle_count(uint32_t(scene_->triangles.size()));
+    info.set_sphere_count(uint32_t(scene_->spheres.size()));
+    info.set_degenerate_triangles(uint32_t(scene_->degenerate_triangles));
+    const rt::Bounds3 bounds = scene_->bounds();
+    add_vec3(info.mutable_bounds_min(), bounds.min);
+    add_vec3(info.mutable_bounds_max(), bounds.max);
+    for (const rt::Light& light : scene_->lights) {
+        rt::LightSpec* spec = info.add_lights();
+        add_vec3(spec->mutable_position(), light.position);
+        // The scene holds colour times intensity: the record keeps it as the colour.
+        add_vec3(spec->mutable_color(), light.intensity);
+        spec->set_intensity(1.0f);
+        spec->set_radius(light.radius);
+    }
+    for (const rt::SceneCamera& camera : scene_->cameras) {
+        rt::NamedCamera* named = info.add_cameras();
+        named->set_name(camera.name);
+        *named->mutable_camera() = camera.camera;
+    }
+    *info.mutable_default_camera() = rt::default_camera(*scene_);
+    for (const std::string& warning : scene_->warnings) info.add_warnings(warning);
+    return to_bytes(info);
 }
 
 nb::bytes PyScene::default_camera() const { return to_bytes(rt::default_camera(*scene_)); }
-
-nb::list PyScene::lights() const {
-    nb::list out;
-    for (const auto& l : scene_->lights) {
-        nb::dict d;
-        d["name"] = l.name;
-        d["position"] = std::vector<float>{l.position.x, l.position.y, l.position.z};
-        d["intensity"] = std::vector<float>{l.intensity.x, l.intensity.y, l.intensity.z};
-        d["radius"] = l.radius;
-        out.append(d);
-    }
-    return out;
-}
 
 nb::dict PyScene::bvh_stats() const {
     const rt::AccelStats& s = accel_->stats();

@@ -15,6 +15,7 @@
 
 #include "geometry/accel.h"
 #include "geometry/scene.h"
+#include "integrator/render.h"
 
 namespace rtcore {
 
@@ -27,22 +28,21 @@ class PyScene {
     static PyScene* load(const std::string& path, unsigned threads);
     static PyScene* from_bytes(const nb::bytes& data, const std::string& name, unsigned threads);
 
+    // Serialized rt.SceneInfo with what the scene itself tells: counts, bounds,
+    // lights, cameras, warnings.
+    nb::bytes info() const;
     size_t triangle_count() const { return scene_->triangles.size(); }
-    size_t sphere_count() const { return scene_->spheres.size(); }
-    size_t degenerate_triangles() const { return scene_->degenerate_triangles; }
-    const std::vector<std::string>& warnings() const { return scene_->warnings; }
-    std::pair<std::vector<float>, std::vector<float>> bounds() const;
-    std::vector<std::pair<std::string, nb::bytes>> cameras() const;
     nb::bytes default_camera() const;
-    nb::list lights() const;
     nb::dict bvh_stats() const;
 
     // The scene as GLB bytes (glb_export.h).
     nb::bytes to_glb() const;
 
-    // Throws ValueError naming what the renderer refuses in this camera and
-    // these settings, without rendering anything.
-    void check(nb::handle camera, nb::handle settings) const;
+    // A render request of type `type_name` (a message with `camera` and
+    // `settings` fields) filled in for this scene and checked once: the one way
+    // a job or debugger request enters. Throws std::invalid_argument naming the
+    // field.
+    nb::bytes complete(const std::string& type_name, nb::handle data) const;
 
     // The colour array, or with `aux` (a list of names or rt.AuxOutput values)
     // a dict of the colour, the layers asked for and the rays traced.
@@ -62,6 +62,9 @@ class PyScene {
     nb::bytes bvh_boxes(int level) const;
 
   private:
+    // A renderer for a camera and settings given as render_tile takes them.
+    rt::Renderer renderer(nb::handle camera, nb::handle settings) const;
+
     PyScene(rt::Scene scene, unsigned threads)
         : scene_(std::make_unique<rt::Scene>(std::move(scene))),
           accel_(std::make_unique<rt::Accelerator>(*scene_, threads)) {}

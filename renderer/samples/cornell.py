@@ -7,7 +7,7 @@ face carries its own normal, so no vertex normal is smoothed across an edge.
 
 The moving variant makes the short box an object of its own that slides and
 turns while the shutter is open (an rt.NodeMotion), and adds a camera that
-moves as the origin document's did: its look-at point shifted along x.
+moves as the 2020 report's did: its look-at point shifted along x.
 """
 
 from __future__ import annotations
@@ -37,8 +37,8 @@ SPHERE_LIGHT_RADIUS = 0.1
 # +Y (through the floor's centre), then moved right, clear of the walls.
 SHORT_BOX_MOTION = {"node": "short_box", "translation": [0.1, 0.0, 0.05],
                     "rotation": [0.0, math.sin(math.radians(-10)), 0.0, math.cos(math.radians(-10))]}
-# The seed's 16 frames shifted the look-at point by 0.01 each: 0.15 from the
-# first to the last.
+# The 2020 report's 16 frames shifted the look-at point by 0.01 each: 0.15
+# from the first to the last.
 LOOK_SHIFT = 0.15
 
 CAMERAS = [

@@ -1,7 +1,7 @@
 """The sample scenes, one function each. Every function returns the files of its
 scene ({file name: bytes}) and its triangle count; make_samples.py writes them.
 
-They mirror the performance table of the project's origin document: a Cornell
+They mirror the performance table of the 2020 report (docs/origin.md): a Cornell
 box with a point light and with a spherical light, a smooth-shaded low-poly
 model (968 triangles), the Stanford dragon at four resolutions, a teapot, a
 donut of 320K triangles, and the Stanford bunny. One more Cornell box shows
@@ -88,7 +88,7 @@ def cornell_motion_scene() -> tuple[dict[str, bytes], int]:
 
 
 def smooth_sphere_scene() -> tuple[dict[str, bytes], int]:
-    """968 triangles like the origin document's monkey, with vertex normals so
+    """968 triangles like the 2020 report's monkey, with vertex normals so
     the interpolated shading shows against the faceted silhouette."""
     sphere = uv_sphere(0.5, segments=22, rings=23)
     assert facing_fraction(sphere) == 1.0, "sphere winding disagrees with its normals"
@@ -120,7 +120,7 @@ def donut_scene() -> tuple[dict[str, bytes], int]:
 
 
 def all_scenes(node_modules: Path) -> list[tuple[str, callable]]:
-    """(name, builder) in the order of the origin document's table."""
+    """(name, builder) in the order of the 2020 report's table."""
     return [
         ("cornell", cornell_scene),
         ("cornell_sphere_light", cornell_sphere_light_scene),

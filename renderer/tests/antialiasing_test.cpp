@@ -1,6 +1,6 @@
 // Anti-aliasing: a pixel's error against its exact coverage falls with the
 // sample count at least as fast as 1/sqrt(N), and faster than with independent
-// random samples; GRID is the seed's supersampling; one sample is the pixel's
+// random samples; GRID is the 2020 report's supersampling; one sample is the pixel's
 // centre whatever the filter, as before there were filters.
 #include <cmath>
 #include <cstdio>
@@ -127,7 +127,7 @@ TEST(AntiAliasing, EdgeErrorFallsFasterThanWithIndependentSamples) {
     EXPECT_LT(stratified_slope, -0.5);
 }
 
-// GRID with 4 samples is the seed's supersampling: the image rendered at twice
+// GRID with 4 samples is the 2020 report's supersampling: the image rendered at twice
 // the resolution, each 2 x 2 block averaged; likewise 16 samples and 4 times.
 TEST(AntiAliasing, GridIsSupersamplingAtAHigherResolution) {
     const Scene scene = floor_and_sphere(1.0f);
@@ -193,7 +193,7 @@ TEST(AntiAliasing, GridRefusesWhatItCannotDo) {
         Renderer(accel, settings, camera);
         FAIL() << "10 samples on a grid accepted";
     } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("settings.samplesPerPixel"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("settings.samples_per_pixel"), std::string::npos) << e.what();
     }
     settings.set_samples_per_pixel(16);
     settings.set_adaptive_threshold(0.05f);
@@ -201,7 +201,7 @@ TEST(AntiAliasing, GridRefusesWhatItCannotDo) {
         Renderer(accel, settings, camera);
         FAIL() << "adaptive GRID accepted";
     } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("settings.adaptiveThreshold"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("settings.adaptive_threshold"), std::string::npos) << e.what();
     }
 }
 

@@ -103,7 +103,7 @@ TEST(LoaderExtras, GltfExtrasAreValidatedWithTheirPath) {
     const Json camera = {{"position", {0, 0, 1}}, {"target", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fovY", 500}};
     doc.json["asset"]["extras"]["rt"] = {{"cameras", {{{"camera", camera}}}}};
     EXPECT_EQ(scene_error([&] { load_text(doc.text(), "e.gltf"); }),
-              "e.gltf: asset.extras.rt.cameras[0].camera.fovY: 500 is above the maximum 179");
+              "e.gltf: asset.extras.rt.cameras[0].camera.fov_y: 500 is above the maximum 179");
     doc.json["asset"]["extras"]["rt"] = "not an object";
     EXPECT_EQ(scene_error([&] { load_text(doc.text(), "e.gltf"); }), "e.gltf: asset.extras.rt must be a JSON object");
 }

@@ -1,6 +1,6 @@
 // Motion blur: a render whose samples each take their own shutter time equals
 // the mean of still renders over the shutter interval, within its noise; the
-// seed's FRAMES is that mean exactly; a still scene renders as it always did;
+// 2020 report's FRAMES is that mean exactly; a still scene renders as it always did;
 // the BVH finds what testing every moving triangle at the ray's time finds.
 #include <cmath>
 #include <random>
@@ -45,7 +45,7 @@ Camera camera_at(const Camera& moving, float time) {
                        lerp_field(moving.up(), close.up(), time));
 }
 
-// The seed's demo: the look-at point moves by `shift` along x while the shutter is open.
+// The 2020 report's demo: the look-at point moves by `shift` along x while the shutter is open.
 Camera look_shift(const Camera& camera, float shift) {
     Camera moving = camera;
     CameraPose& close = *moving.mutable_shutter_close();
@@ -166,7 +166,7 @@ TEST(MotionBlur, TimeSampledMovingMeshIsTheMeanOfStillRenders) {
     expect_mean_of_stills(scene, kBoxView, half, kBoxView);
 }
 
-// The seed's method: the mean of whole still renders at the centres of
+// The 2020 report's method: the mean of whole still renders at the centres of
 // motion_frames equal parts of the shutter interval, each of the full
 // samples_per_pixel; only float rounding apart from doing it by hand.
 TEST(MotionBlur, FramesIsTheMeanOfStillRendersAtTheFrameCentres) {
@@ -264,7 +264,7 @@ TEST(MotionBlur, CameraPosesAreCheckedAtBothEndsAndInBetween) {
         Renderer(accel, make_settings(8, 8), partial);
         ADD_FAILURE() << "a pose at shutter close without a target was accepted";
     } catch (const std::invalid_argument& e) {
-        EXPECT_EQ(std::string(e.what()), "camera.shutterClose.position: needs 3 values, got 1");
+        EXPECT_EQ(std::string(e.what()), "camera.shutter_close.position: needs 3 values, got 1");
     }
 }
 

@@ -43,13 +43,13 @@ TEST(ProtoLimits, SamplingSettingsHaveTheirDefaultsAndLimits) {
     EXPECT_EQ(given.pixel_filter(), GRID);
     EXPECT_EQ(given.light_sampling(), SPHERE);
     RenderSettings zero;
-    EXPECT_EQ(error_of(R"({"samplesPerPixel": 0})", zero), "settings.samplesPerPixel: 0 is below the minimum 1");
+    EXPECT_EQ(error_of(R"({"samplesPerPixel": 0})", zero), "settings.samples_per_pixel: 0 is below the minimum 1");
     RenderSettings many;
     EXPECT_EQ(error_of(R"({"samplesPerPixel": 65537})", many),
-              "settings.samplesPerPixel: 65537 is above the maximum 65536");
+              "settings.samples_per_pixel: 65537 is above the maximum 65536");
     RenderSettings negative;
     EXPECT_EQ(error_of(R"({"adaptiveThreshold": -0.1})", negative),
-              "settings.adaptiveThreshold: -0.1 is below the minimum 0");
+              "settings.adaptive_threshold: -0.1 is below the minimum 0");
     RenderSettings unknown;
     EXPECT_NE(error_of(R"({"pixelFilter": "LANCZOS"})", unknown).find("LANCZOS"), std::string::npos);
 }
@@ -62,7 +62,7 @@ TEST(ProtoLimits, UnnamedEnumValuesAreRefused) {
         apply_limits(settings, "settings");
         FAIL() << "pixel filter 7 accepted";
     } catch (const std::invalid_argument& e) {
-        EXPECT_STREQ(e.what(), "settings.pixelFilter: 7 is not one of GAUSSIAN, BOX, TENT, GRID");
+        EXPECT_STREQ(e.what(), "settings.pixel_filter: 7 is not one of GAUSSIAN, BOX, TENT, GRID");
     }
     RenderSettings numeric;
     EXPECT_EQ(error_of(R"({"lightSampling": 1})", numeric), "");

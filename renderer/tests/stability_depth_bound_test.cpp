@@ -74,8 +74,8 @@ TEST(StabilityDepthBound, SettingsThatWouldNeverFinishAreRefused) {
             ADD_FAILURE() << "max_depth " << max_depth << ", min_contribution " << min_contribution << " accepted";
         } catch (const std::invalid_argument& e) {
             const std::string message = e.what();
-            EXPECT_NE(message.find("settings.maxDepth: " + std::to_string(max_depth)), std::string::npos) << message;
-            EXPECT_NE(message.find("settings.minContribution"), std::string::npos) << message;
+            EXPECT_NE(message.find("settings.max_depth: " + std::to_string(max_depth)), std::string::npos) << message;
+            EXPECT_NE(message.find("settings.min_contribution"), std::string::npos) << message;
         }
     }
     for (const auto& [max_depth, min_contribution] : {std::pair{64u, 0.001f}, {19u, 0.0f}, {64u, 1e-4f}})

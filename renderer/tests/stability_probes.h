@@ -24,12 +24,12 @@
 
 namespace rt::testing {
 
-// Where a shadow ray starts. `epsilon`: the seed's way, a fixed step from the
-// hit point towards the light (the origin document, section 4); none: ours,
+// Where a shadow ray starts. `epsilon`: the 2020 report's way, a fixed step
+// from the hit point towards the light (its section 4); none: ours,
 // spawn.h's offset by the hit point's rounding-error bound. Every kind is
 // traced by our accelerator, so that only the origin differs; its triangle
 // test already refuses hits within the error bound of t, which spares the
-// epsilons some of the failures they had in the seed.
+// epsilons some of the failures they had in the 2020 report.
 struct ShadowOrigin {
     const char* name;
     std::optional<float> epsilon;

@@ -1,7 +1,7 @@
 // Shadow rays from surfaces at every scale from 1e-4 to 1e6 (tests/
 // stability_scenes.h): started as spawn.h starts them, they never shadow a lit
-// point nor light a shadowed one; started a fixed epsilon off, as the seed
-// did, they do both, each epsilon at the scales it does not suit.
+// point nor light a shadowed one; started a fixed epsilon off, as the 2020
+// report did, they do both, each epsilon at the scales it does not suit.
 #include <string>
 
 #include <gtest/gtest.h>
@@ -48,7 +48,7 @@ TEST(StabilitySelfIntersection, FixedEpsilonsShadowLitPointsAtLargeScales) {
         EXPECT_GT(tally_of(1e6f, scene, "eps_1e-3").share(), 0.005) << scene;
         EXPECT_GT(tally_of(1e3f, scene, "eps_1e-5").share(), 0.005) << scene;
     }
-    EXPECT_EQ(tally_of(1.0f, "plane", "eps_1e-3").wrong, 0u);  // where the seed's epsilon suits
+    EXPECT_EQ(tally_of(1.0f, "plane", "eps_1e-3").wrong, 0u);  // where the 2020 report's epsilon suits
 }
 
 TEST(StabilitySelfIntersection, FixedEpsilonsLightShadowedPointsAtSmallScales) {

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
+#include <mutex>
+#include <set>
 #include <stdexcept>
 #include <stop_token>
 #include <thread>
@@ -68,6 +71,84 @@ TEST(ThreadPool, TheRenderPoolIsResizedOnRequest) {
     EXPECT_EQ(ran.load(), 8);
     set_render_threads(0);
     EXPECT_EQ(render_pool()->size(), resolve_thread_count(0));
+}
+
+// rt::parallel_for on `threads` threads: every item once, one thread the caller.
+TEST(ThreadPool, ParallelForRunsEveryItemOnceOnAsManyThreadsAsAsked) {
+    for (unsigned threads : {0u, 1u, 2u, 3u, 5u}) {
+        for (size_t count : {0u, 1u, 2u, 7u, 1000u}) {
+            std::vector<std::atomic<int>> runs(count);
+            std::mutex mutex;
+            std::set<std::thread::id> ids;
+            parallel_for(threads, count, [&](size_t i) {
+                ++runs[i];
+                std::lock_guard lock(mutex);
+                ids.insert(std::this_thread::get_id());
+            });
+            for (const auto& r : runs) EXPECT_EQ(r.load(), 1) << threads << " threads, " << count << " items";
+            EXPECT_LE(ids.size(), std::min<size_t>(resolve_thread_count(threads), count));
+            if (count > 0 && (threads == 1 || count == 1)) {
+                EXPECT_EQ(ids, std::set{std::this_thread::get_id()});
+            }
+        }
+    }
+    EXPECT_THROW(parallel_for(2, 100, [](size_t i) { if (i == 5) throw std::runtime_error("item 5"); }),
+                 std::runtime_error);
+    EXPECT_THROW(parallel_for(1, 100, [](size_t i) { if (i == 5) throw std::runtime_error("item 5"); }),
+                 std::runtime_error);
+}
+
+// Asked for a size other than the render pool's, the items get that many
+// threads of their own: three items that each wait for the other two finish.
+TEST(ThreadPool, ParallelForOfAnotherSizeGetsThreadsOfItsOwn) {
+    set_render_threads(2);
+    std::mutex mutex;
+    std::condition_variable arrived;
+    int waiting = 0;
+    std::atomic<int> met{0};
+    parallel_for(3, 3, [&](size_t) {
+        std::unique_lock lock(mutex);
+        ++waiting;
+        arrived.notify_all();
+        if (arrived.wait_for(lock, std::chrono::seconds(10), [&] { return waiting == 3; })) ++met;
+    });
+    EXPECT_EQ(met.load(), 3);
+    set_render_threads(0);
+}
+
+// Asked for the render pool's size, the items queue on the render pool behind
+// the tiles it renders already, rather than taking cores beside them.
+TEST(ThreadPool, ParallelForOfTheRenderPoolsSizeSharesIt) {
+    set_render_threads(2);
+    std::mutex mutex;
+    std::condition_variable changed;
+    bool release = false;
+    int busy = 0;
+    std::thread tiles([&] {
+        render_pool()->parallel_for(2, [&](size_t) {
+            std::unique_lock lock(mutex);
+            ++busy;
+            changed.notify_all();
+            changed.wait(lock, [&] { return release; });
+        });
+    });
+    {
+        std::unique_lock lock(mutex);
+        changed.wait(lock, [&] { return busy == 2; });  // both pool threads hold a tile
+    }
+    std::atomic<int> ran{0};
+    std::thread caller([&] { parallel_for(2, 4, [&](size_t) { ++ran; }); });
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    EXPECT_EQ(ran.load(), 0) << "the items ran beside the render pool's tiles";
+    {
+        std::lock_guard lock(mutex);
+        release = true;
+    }
+    changed.notify_all();
+    tiles.join();
+    caller.join();
+    EXPECT_EQ(ran.load(), 4);
+    set_render_threads(0);
 }
 
 // The floor and sphere of test_scenes.h with its BVH, and renderers of it.

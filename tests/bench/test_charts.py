@@ -72,6 +72,17 @@ def test_scaling_measures_every_scene_and_both_cluster_sizes(charts):
     configurations = [r.cells[0] for r in by_slug["scaling_throughput"].table.rows]
     for measured in ("rtcore, 1 thread", "rtcore, 2 threads", "Dask, 1 worker x 1 thread", "Dask, 2 workers x 1 thread"):
         assert measured in configurations
-    seed_rows = by_slug["scaling_seed_table"].table.rows
-    assert [r.cells[0] for r in seed_rows][:2] == ["Cornell box", "Cornell box sphere light"]
+    report_rows = by_slug["scaling_report_table"].table.rows
+    assert [r.cells[0] for r in report_rows][:2] == ["Cornell box", "Cornell box sphere light"]
     assert json.loads((charts / "index.json").read_text())["sections"][0]["title"] == "earlier"
+
+
+def test_replot_redraws_from_the_csvs_without_measuring(charts):
+    """--replot redraws the PNGs from the CSVs the run left, the foot naming the
+    machine of that run."""
+    for slug in ("stability_self_intersection", "scaling_report_table"):
+        (charts / f"{slug}.png").unlink()
+    run(str(BENCH / "stability_charts.py"), "--replot", "--only", "self_intersection", "--out", str(charts))
+    run(str(BENCH / "scaling.py"), "--replot", "--quick", "--out", str(charts))
+    for slug in ("stability_self_intersection", "scaling_report_table"):
+        assert (charts / f"{slug}.png").read_bytes()[:4] == b"\x89PNG", slug

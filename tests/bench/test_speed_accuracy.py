@@ -83,3 +83,21 @@ def test_depth_error_vanishes_towards_the_reference(charts):
     assert errors[0] > 0.01, "the reflective spheres are black at max_depth 0"
     assert all(later <= earlier for earlier, later in zip(errors, errors[1:]))
     assert "saved" in (charts / "depth_dragon.md").read_text()
+
+
+def test_replot_redraws_the_sampling_charts_from_their_csvs(charts):
+    """--replot renders nothing: it redraws each sampling chart's PNG from its
+    CSV (the depth charts, whose time saving the CSV lacks, stay as they are)."""
+    before = {p.name: p.read_bytes() for p in charts.glob("*.png")}
+    for png in charts.glob("soft_shadows_*.png"):
+        png.unlink()
+    result = subprocess.run([sys.executable, str(SCRIPT), "--replot", "--out", str(charts)],
+                            capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    redrawn = sorted(line.split()[1] for line in result.stdout.splitlines() if line.startswith("redrew "))
+    assert redrawn == sorted(f"{c}.png" for c in CHARTS if not c.startswith("depth_"))
+    for chart in CHARTS:
+        png = (charts / f"{chart}.png").read_bytes()
+        assert png[:8] == b"\x89PNG\r\n\x1a\n", chart
+        if chart.startswith("depth_"):
+            assert png == before[f"{chart}.png"], chart

@@ -101,7 +101,7 @@ def test_errors_name_the_problem(rtrender, scenes_dir, tmp_path):
         ((scenes_dir / "cornell.obj",), 2, "no output"),
         ((scenes_dir / "cornell.obj", "-o", tmp_path / "x.png", "--width", 0), 2, "settings.width: 0 is below"),
         ((scenes_dir / "cornell.obj", "-o", tmp_path / "x.png", "--samples-per-pixel", 0), 2,
-         "settings.samplesPerPixel: 0 is below the minimum 1"),
+         "settings.samples_per_pixel: 0 is below the minimum 1"),
         ((scenes_dir / "cornell.obj", "-o", tmp_path / "x.png", "--width", "abc"), 2, "not a number"),
         ((scenes_dir / "cornell.obj", "-o", tmp_path / "x.png", "--bogus", 1), 2, "unknown option --bogus"),
         ((scenes_dir / "cornell.obj", "-o", tmp_path / "x.png", "--camera", "nope"), 2, "no camera 'nope'"),
@@ -160,7 +160,7 @@ def test_aux_outputs_need_an_exr_and_known_names(rtrender, scenes_dir, tmp_path)
 
 
 def test_camera_file_with_a_pose_at_shutter_close_blurs(rtrender, scenes_dir, tmp_path):
-    """The seed's look-at shift as a camera file; FRAMES in the settings file is
+    """The 2020 report's look-at shift as a camera file; FRAMES in the settings file is
     the mean of still frames at the centres of the shutter interval's parts."""
     still = {"position": [0, 0.5, 1.87], "target": [0, 0.5, 0], "fovY": 40}
     # 0.125 and the frame times 1/4, 3/4 are exact in binary: the frames' cameras match ours bit for bit.
@@ -257,5 +257,5 @@ def test_settings_under_which_glass_would_never_finish_exit_2(rtrender, tmp_path
     common = ("-o", tmp_path / "pane.png", "--width", 8, "--height", 8, "--max-depth", 64)
     result = run(rtrender, scene, *common, "--min-contribution", 0)
     assert result.returncode == 2, result.stderr
-    assert "settings.maxDepth: 64 with settings.minContribution 0 lets one camera ray split" in result.stderr
+    assert "settings.max_depth: 64 with settings.min_contribution 0 lets one camera ray split" in result.stderr
     assert run(rtrender, scene, *common).returncode == 0

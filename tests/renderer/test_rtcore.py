@@ -10,7 +10,7 @@ import pytest
 from PIL import Image
 
 import rtcore
-from rt import debug_pb2, render_pb2
+from rt import debug_pb2, job_pb2, render_pb2
 
 
 @pytest.fixture(scope="module")
@@ -22,15 +22,24 @@ def settings(width=48, height=36, **fields):
     return render_pb2.RenderSettings(width=width, height=height, **fields).SerializeToString()
 
 
+def scene_info(scene) -> job_pb2.SceneInfo:
+    return job_pb2.SceneInfo.FromString(scene.info)
+
+
+def named_camera(scene, name: str) -> bytes:
+    return next(c.camera for c in scene_info(scene).cameras if c.name == name).SerializeToString()
+
+
 def test_load_reports_the_scene(cornell):
-    assert cornell.triangle_count >= 30
-    lo, hi = cornell.bounds
+    info = scene_info(cornell)
+    assert cornell.triangle_count == info.triangle_count >= 30
+    lo, hi = info.bounds_min, info.bounds_max
     assert all(a < b for a, b in zip(lo, hi))
-    assert cornell.cameras, "the sample Cornell box names a camera"
-    name, camera_bytes = cornell.cameras[0]
-    camera = render_pb2.Camera.FromString(camera_bytes)
+    assert info.cameras, "the sample Cornell box names a camera"
+    camera = info.cameras[0].camera
     assert len(camera.position) == 3 and len(camera.target) == 3
-    assert len(cornell.lights) == 1
+    assert info.default_camera.SerializeToString() == cornell.default_camera
+    assert len(info.lights) == 1
     stats = cornell.bvh_stats
     assert stats["triangles"] == cornell.triangle_count and stats["nodes"] >= 1
 
@@ -74,7 +83,8 @@ def test_missing_scene_is_a_clear_error(tmp_path):
 
 def test_batch_queries_agree_with_each_other(cornell):
     rng = np.random.default_rng(1)
-    lo, hi = (np.array(b, dtype=np.float32) for b in cornell.bounds)
+    info = scene_info(cornell)
+    lo, hi = (np.array(b, dtype=np.float32) for b in (info.bounds_min, info.bounds_max))
     origins = (lo + (hi - lo) * rng.random((5000, 3))).astype(np.float32)
     targets = (lo + (hi - lo) * rng.random((5000, 3))).astype(np.float32)
     directions = targets - origins
@@ -139,7 +149,7 @@ def test_messages_quoting_bytes_that_are_not_utf8_stay_readable(tmp_path):
         rtcore.Scene.from_bytes(obj, "x.obj")
     assert not isinstance(error.value, UnicodeDecodeError)
     (tmp_path / "x.obj").write_bytes(obj)
-    assert "x.obj: material library '??.mtl' not found" in rtcore.Scene.load(str(tmp_path / "x.obj")).warnings
+    assert "x.obj: material library '??.mtl' not found" in scene_info(rtcore.Scene.load(str(tmp_path / "x.obj"))).warnings
     with pytest.raises(ValueError, match="invalid JSON") as error:
         rtcore.Scene.from_bytes(b'{"asset": "' + b"A" * 100000 + b'\xff"}', "y.gltf")
     assert len(str(error.value)) < 1000
@@ -183,7 +193,7 @@ def test_parse_message_fills_defaults_and_names_bad_fields():
     request = job_pb2.JobRequest.FromString(data)
     assert request.settings.width == 64 and request.settings.height == 480
     assert request.camera.fov_y == 45
-    with pytest.raises(ValueError, match=r"^body\.settings\.maxDepth: 65 is above the maximum 64$"):
+    with pytest.raises(ValueError, match=r"^body\.settings\.max_depth: 65 is above the maximum 64$"):
         rtcore.parse_message("rt.JobRequest", '{"settings": {"maxDepth": 65}}')
     with pytest.raises(ValueError, match="widht"):
         rtcore.parse_message("rt.RenderSettings", '{"widht": 3}')
@@ -200,8 +210,10 @@ def test_to_glb_reloads_as_the_same_scene(scenes_dir, name):
     assert int.from_bytes(glb[4:8], "little") == 2 and int.from_bytes(glb[8:12], "little") == len(glb)
     back = rtcore.Scene.from_bytes(glb, "x.glb")
     assert back.triangle_count == scene.triangle_count
-    np.testing.assert_array_equal(back.bounds, scene.bounds)
-    assert [light["position"] for light in back.lights] == [light["position"] for light in scene.lights]
+    np.testing.assert_array_equal(scene_info(back).bounds_min, scene_info(scene).bounds_min)
+    np.testing.assert_array_equal(scene_info(back).bounds_max, scene_info(scene).bounds_max)
+    assert [light.position for light in scene_info(back).lights] == \
+        [light.position for light in scene_info(scene).lights]
 
 
 ALL_AUX = ["depth", "normal", "albedo", "bvh_cost"]
@@ -252,7 +264,7 @@ def test_normals_face_the_camera(cornell):
 
 
 def test_bvh_cost_grows_with_max_depth_in_the_mirror(cornell):
-    mirror = dict(cornell.cameras)["mirror"]
+    mirror = named_camera(cornell, "mirror")
     costs = [cornell.render_tile(mirror, settings(max_depth=d), 0, 0, 48, 36, aux=["bvh_cost"])
              for d in (0, 1)]
     assert costs[1]["bvh_cost"].astype(np.int64).sum() > costs[0]["bvh_cost"].astype(np.int64).sum()
@@ -269,7 +281,7 @@ def test_bad_aux_names_are_refused(cornell):
 
 
 def test_preview_tile_pixels_are_the_final_pixels(cornell):
-    mirror = dict(cornell.cameras)["mirror"]
+    mirror = named_camera(cornell, "mirror")
     x, y, w, h = 3, 5, 30, 26
     full = cornell.render_tile(mirror, settings(), x, y, w, h, aux=ALL_AUX)
     preview = cornell.render_tile(mirror, settings(), x, y, w, h, aux=ALL_AUX, scale=4)
@@ -331,19 +343,19 @@ def test_sampling_settings_have_defaults_and_refuse_bad_values(cornell):
     assert (given.pixel_filter, given.light_sampling, given.samples_per_pixel) == (render_pb2.GRID, render_pb2.SPHERE, 9)
 
     camera = cornell.default_camera
-    with pytest.raises(ValueError, match=r"^settings\.samplesPerPixel: 0 is below the minimum 1$"):
+    with pytest.raises(ValueError, match=r"^settings\.samples_per_pixel: 0 is below the minimum 1$"):
         cornell.render_tile(camera, settings(8, 8, samples_per_pixel=0), 0, 0, 1, 1)
-    with pytest.raises(ValueError, match=r"^settings\.samplesPerPixel: 70000 is above the maximum 65536$"):
+    with pytest.raises(ValueError, match=r"^settings\.samples_per_pixel: 70000 is above the maximum 65536$"):
         cornell.render_tile(camera, '{"samplesPerPixel": 70000}', 0, 0, 1, 1)
-    with pytest.raises(ValueError, match=r"^settings\.adaptiveThreshold: 2 is above the maximum 1$"):
+    with pytest.raises(ValueError, match=r"^settings\.adaptive_threshold: 2 is above the maximum 1$"):
         cornell.render_tile(camera, settings(8, 8, adaptive_threshold=2), 0, 0, 1, 1)
     with pytest.raises(ValueError, match="LANCZOS"):
         cornell.render_tile(camera, '{"pixelFilter": "LANCZOS"}', 0, 0, 1, 1)
-    with pytest.raises(ValueError, match=r"settings\.pixelFilter: 7 is not one of GAUSSIAN, BOX, TENT, GRID"):
+    with pytest.raises(ValueError, match=r"settings\.pixel_filter: 7 is not one of GAUSSIAN, BOX, TENT, GRID"):
         cornell.render_tile(camera, settings(8, 8, pixel_filter=7), 0, 0, 1, 1)
-    with pytest.raises(ValueError, match=r"settings\.samplesPerPixel: GRID takes a square number"):
+    with pytest.raises(ValueError, match=r"settings\.samples_per_pixel: GRID takes a square number"):
         cornell.render_tile(camera, settings(8, 8, pixel_filter=render_pb2.GRID, samples_per_pixel=10), 0, 0, 1, 1)
-    with pytest.raises(ValueError, match=r"settings\.adaptiveThreshold: adaptive sampling"):
+    with pytest.raises(ValueError, match=r"settings\.adaptive_threshold: adaptive sampling"):
         cornell.render_tile(camera, settings(8, 8, pixel_filter=render_pb2.GRID, samples_per_pixel=16,
                                              adaptive_threshold=0.1), 0, 0, 1, 1)
 
@@ -421,9 +433,9 @@ def test_image_bindings_refuse_bad_shapes_and_settings():
         with pytest.raises(ValueError, match="encode_srgb8" + expected):
             rtcore.encode_srgb8(bad)
     rgb = np.zeros((2, 2, 3), np.float32)
-    with pytest.raises(ValueError, match=r"settings\.bloomStrength: 2 is above the maximum 1"):
+    with pytest.raises(ValueError, match=r"settings\.bloom_strength: 2 is above the maximum 1"):
         rtcore.apply_bloom(rgb, '{"bloomStrength": 2}')
-    with pytest.raises(ValueError, match=r"settings\.bloomRadius: 0 is below the minimum 0\.5"):
+    with pytest.raises(ValueError, match=r"settings\.bloom_radius: 0 is below the minimum 0\.5"):
         rtcore.apply_bloom(rgb, '{"bloomStrength": 1, "bloomRadius": 0}')
     with pytest.raises(ValueError, match="FILMIC"):
         rtcore.encode_srgb8(rgb, '{"toneMap": "FILMIC"}')
@@ -451,9 +463,9 @@ def test_bloom_and_display_match_rtrender(rtrender, scenes_dir, tmp_path):
 
 def test_moving_scenes_and_cameras_blur(scenes_dir):
     """cornell_motion: its short box moves (an rt.NodeMotion in the sidecar) and
-    its look_shift camera turns as the seed's did; both blur what they move."""
+    its look_shift camera turns as the 2020 report's did; both blur what they move."""
     scene = rtcore.Scene.load(str(scenes_dir / "cornell_motion.obj"))
-    cameras = dict(scene.cameras)
+    cameras = {c.name: c.camera.SerializeToString() for c in scene_info(scene).cameras}
     shift = render_pb2.Camera.FromString(cameras["look_shift"])
     assert shift.HasField("shutter_close") and shift.shutter_close.target[0] == pytest.approx(0.15)
     still = rtcore.Scene.load(str(scenes_dir / "cornell.obj"))
@@ -462,7 +474,7 @@ def test_moving_scenes_and_cameras_blur(scenes_dir):
     still_box = still.render_tile(camera, settings(samples_per_pixel=16), 0, 0, 48, 36)
     assert np.abs(moving_box - still_box).max() > 0.1, "the short box moves"
 
-    # The seed's FRAMES: still frames at the centres of the interval's parts, here 2 at times 1/4 and 3/4.
+    # The 2020 report's FRAMES: still frames at the centres of the interval's parts, here 2 at times 1/4 and 3/4.
     frames = scene.render_tile(cameras["look_shift"], settings(motion_blur=render_pb2.FRAMES, motion_frames=2),
                                0, 0, 48, 36)
     sampled = scene.render_tile(cameras["look_shift"], settings(samples_per_pixel=64), 0, 0, 48, 36)
@@ -471,13 +483,47 @@ def test_moving_scenes_and_cameras_blur(scenes_dir):
     assert np.abs(sampled - frames).mean() < 0.5 * np.abs(sharp - frames).mean(), "both blur alike"
 
 
+def debug_request(camera: str) -> str:
+    return json.dumps({"camera": json.loads(camera), "pixel": [0, 0]})
+
+
 def test_camera_poses_at_shutter_close_are_checked(cornell):
     camera = json.dumps({"position": [0, 0.5, 2], "target": [0, 0.5, 0],
                          "shutterClose": {"position": [0, 0.5, 2], "target": [0, 0.5, 2]}})
     with pytest.raises(ValueError, match=r"^camera\.shutter_close: position and target must differ$"):
-        cornell.check(camera, settings())
-    with pytest.raises(ValueError, match=r"camera\.shutterClose\.target: is required"):
-        cornell.check('{"position": [0, 0, 1], "target": [0, 0, 0], "shutterClose": {"position": [0, 0, 2]}}',
-                      settings())
+        cornell.complete("rt.DebugRayRequest", debug_request(camera))
+    with pytest.raises(ValueError, match=r"camera\.shutter_close\.target: is required"):
+        cornell.complete("rt.DebugRayRequest", debug_request(
+            '{"position": [0, 0, 1], "target": [0, 0, 0], "shutterClose": {"position": [0, 0, 2]}}'))
     defaults = render_pb2.RenderSettings.FromString(rtcore.parse_message("rt.RenderSettings", "{}"))
     assert defaults.motion_blur == render_pb2.TIME_SAMPLED and defaults.motion_frames == 16
+
+
+def test_complete_fills_the_scene_camera_and_default_settings_once(cornell):
+    read = rtcore.parse_message("rt.JobRequest", '{"scene_id": "s", "settings": {"width": 64}}', limits=False)
+    assert job_pb2.JobRequest.FromString(read).settings.height == 0, "read only: no defaults yet"
+    request = job_pb2.JobRequest.FromString(cornell.complete("rt.JobRequest", read))
+    assert request.scene_id == "s"
+    assert request.settings.width == 64 and request.settings.height == 480 and request.settings.max_depth > 0
+    assert request.camera.SerializeToString() == cornell.default_camera
+    given = job_pb2.JobRequest.FromString(cornell.complete(
+        "rt.JobRequest", '{"camera": {"position": [0, 1, 2], "target": [0, 0, 0]}, "outputs": ["DEPTH"]}'))
+    assert list(given.camera.position) == [0, 1, 2] and given.camera.fov_y == 45
+    assert list(given.outputs) == [job_pb2.DEPTH] and given.settings.width == 640
+
+
+@pytest.mark.parametrize("body, message", [
+    ('{"pixel": [0, 0], "settings": {"max_depth": 65}}', r"^settings\.max_depth: 65 is above the maximum 64$"),
+    ('{"pixel": [0, 0], "settings": {"samplesPerPixel": 3, "pixelFilter": "GRID"}}', r"^settings\.samples_per_pixel: GRID takes"),
+    ('{"pixel": [0, 0], "camera": {"position": [0, 0]}}', r"^camera\.position: needs 3 values, got 2$"),
+    ('{"pixel": [1]}', r"^pixel: needs 2 values, got 1$"),
+    ('{"pixel": [1, 2], "nope": 1}', r"^body: invalid JSON: .*nope"),
+])
+def test_complete_names_the_field_as_api_users_write_it(cornell, body, message):
+    with pytest.raises(ValueError, match=message):
+        cornell.complete("rt.DebugRayRequest", body)
+
+
+def test_complete_takes_only_render_requests(cornell):
+    with pytest.raises(ValueError, match="rt.SceneInfo is not a render request"):
+        cornell.complete("rt.SceneInfo", "{}")

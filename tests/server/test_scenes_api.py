@@ -84,7 +84,7 @@ def test_debug_ray_returns_the_ray_tree(client, cornell_id):
 @pytest.mark.parametrize("body, words", [
     ({"settings": {"width": 64, "height": 48}, "pixel": [64, 0]}, "outside"),
     ({"pixel": [1]}, "pixel: needs 2 values"),
-    ({"settings": {"maxDepth": 1000}, "pixel": [0, 0]}, "maxDepth: 1000 is above the maximum 64"),
+    ({"settings": {"maxDepth": 1000}, "pixel": [0, 0]}, "settings.max_depth: 1000 is above the maximum 64"),
     ({"camera": {"position": [0, 0, 0], "target": [0, 0, 0]}, "pixel": [0, 0]}, "position and target must differ"),
     ({"pixel": [0, 0], "colour": 1}, "colour"),
 ])

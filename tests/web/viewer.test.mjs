@@ -345,6 +345,55 @@ describe("rt viewer", { timeout: 170_000 }, () => {
     await page.selectOption("#setting-tone_map", { index: 0 });
   });
 
+  test("a followed job's record comes from its tile stream: no polling, and the panel runs to done", async () => {
+    // Some seconds of rendering: polling every 500 ms would have asked for the record several times.
+    const job = await api("/api/jobs", {
+      method: "POST",
+      headers: { "Content-Type": "application/json" },
+      body: JSON.stringify({ scene_id: shared.scene, settings: { width: 800, height: 600, samples_per_pixel: 32 } }),
+    });
+    const asked = [];
+    const count = (request) => {
+      if (request.method() === "GET" && new URL(request.url()).pathname === `/api/jobs/${job.id}`) asked.push(Date.now());
+    };
+    page.on("request", count);
+    await page.evaluate((id) => {
+      // What the panel shows, sampled; and the records the stream brought.
+      window.__panel = [];
+      window.__records = 0;
+      window.rt.follower.addEventListener("job", () => { window.__records += 1; });
+      const text = (id_) => document.getElementById(id_).textContent;
+      const sample = () => window.__panel.push({ state: text("job-state"), progress: document.getElementById("job-progress").value,
+        left: text("job-left"), tiles: text("job-tiles"), at: performance.now() });
+      window.__sampler = setInterval(sample, 40);
+      window.rt.router.go(id);
+    }, job.id);
+    const opened = Date.now();
+    await waitIn((id) => window.rt.state.job?.id === id && window.rt.tiles.jobId === id && window.rt.tiles._ended
+      && window.rt.tiles.queue.length === 0 && document.querySelector("#job-state").textContent === "done",
+    job.id, "the followed job", 90_000);
+    const followed = Date.now() - opened;
+    page.off("request", count);
+    const { panel, records } = await page.evaluate(() => {
+      clearInterval(window.__sampler);
+      return { panel: window.__panel, records: window.__records };
+    });
+    const record = await api(`/api/jobs/${job.id}`);
+    console.log(`# followed for ${followed} ms: ${records} records from the stream, ${asked.length} GET of the job`);
+    assert.ok(followed > 1500, `the job ran long enough (${followed} ms) for polling to have shown`);
+    assert.equal(asked.length, 1, "the job's record was fetched once, when opened, and then never polled");
+    assert.ok(records >= 2, `the stream brought the record as it changed (${records})`);
+    const running = panel.filter((p) => p.state === "running");
+    const progress = running.map((p) => p.progress);
+    assert.ok(new Set(progress).size >= 2, `the progress bar moved while it ran (${[...new Set(progress)]})`);
+    progress.forEach((v, i) => assert.ok(v >= (progress[i - 1] ?? 0) && v <= 1, "progress never goes back"));
+    assert.ok(running.some((p) => /^\d.* (s|min)$/.test(p.left)), "a time left was shown while it ran");
+    const last = panel.at(-1);
+    assert.deepEqual([last.state, last.progress, last.left], ["done", 1, "0.0 s"]);
+    assert.equal(await page.textContent("#job-tiles"), `${record.tiles_total} / ${record.tiles_total}`);
+    assert.equal(record.state, "DONE");
+  });
+
   test("a narrow window keeps every control on screen", async () => {
     await page.setViewportSize({ width: 420, height: 800 });
     await page.waitForTimeout(200);

@@ -39,7 +39,7 @@ export class JobPanel extends EventTarget {
     this._ticker = setInterval(() => this._showTimes(), 250);
   }
 
-  /** Shows a job record (from a poll, the stream's end, or a submission). */
+  /** Shows a job record (fetched when the job is opened, from its stream, or a cancel's answer). */
   show(job) {
     this.job = job;
     const state = stateOf(job);
@@ -57,7 +57,7 @@ export class JobPanel extends EventTarget {
     this._showTimes();
   }
 
-  /** Tiles received on the stream so far (they may run ahead of the polled record). */
+  /** Tiles received on the stream so far (they may run ahead of the last record). */
   setTilesReceived(count) {
     this.tilesReceived = count;
     this._showTiles();

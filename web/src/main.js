@@ -1,10 +1,11 @@
 // The viewer's entry: builds the panels and wires them together. Scenes load
 // into the 3D view; "Render this view" submits a job with the view's camera;
-// /jobs/<id> follows a job's tiles; clicking the image traces a pixel.
-import { getJob, getScene, health, modelUrl, submitJob } from "./api.js";
+// /jobs/<id> follows a job's tiles and record; clicking the image traces a pixel.
+import { getScene, health, modelUrl, submitJob } from "./api.js";
 import { cameraToView, viewToCamera } from "./camera-sync.js";
 import { DebugPanel } from "./debug-panel.js";
 import { ImageLayers } from "./heatmap.js";
+import { isFinal, JobFollower } from "./job-follower.js";
 import { JobPanel, stateOf } from "./job-panel.js";
 import { Router } from "./router.js";
 import { ScenesPanel } from "./scenes-panel.js";
@@ -15,13 +16,13 @@ import { TileView } from "./tiles.js";
 import { Viewer } from "./viewer.js";
 
 const $ = (id) => document.getElementById(id);
-const POLL_MS = 500;
 
 const viewer = new Viewer($("viewport"));
 const settings = new SettingsPanel($("render-form"));
 const scenes = new ScenesPanel(document);
 const jobPanel = new JobPanel(document);
 const tiles = new TileView($("image-canvas"));
+const follower = new JobFollower(tiles);
 const overlay = new ImageOverlay($("image-overlay"));
 const layers = new ImageLayers($("layer-buttons"), $("layer-image"), $("heat-legend"));
 const debug = new DebugPanel(viewer, tiles, overlay);
@@ -29,7 +30,7 @@ const router = new Router();
 const cameraSelect = $("scene-camera");
 const shutter = new ShutterPose(document, viewer);
 
-const state = { scene: null, job: null, poll: null, running: null, sceneLoad: null };
+const state = { scene: null, job: null, running: null, sceneLoad: null };
 
 function viewportStatus(text) {
   $("viewport-status").textContent = text;
@@ -136,8 +137,7 @@ $("render-form").addEventListener("submit", async (e) => {
 // --- jobs ---------------------------------------------------------------------
 
 function stopFollowing() {
-  clearInterval(state.poll);
-  state.poll = null;
+  follower.stop();
   tiles.close();
   overlay.setRunning([]);
 }
@@ -148,18 +148,15 @@ function showJob(job) {
   const done = stateOf(job) === "DONE";
   layers.setJob(job, done);
   debug.setJob(job);
-  if (!["QUEUED", "RUNNING"].includes(stateOf(job))) {
-    clearInterval(state.poll);
-    state.poll = null;
-    overlay.setRunning([]);
-  }
+  if (isFinal(job)) overlay.setRunning([]);
 }
 
 async function openJob(id) {
   stopFollowing();
   let job;
   try {
-    job = await getJob(id);
+    job = await follower.open(id);
+    if (!job) return; // another job was opened meanwhile
   } catch (e) {
     state.job = null;
     $("job-title").textContent = `Job ${id}`;
@@ -171,23 +168,14 @@ async function openJob(id) {
   const { width, height } = job.request.settings;
   settings.show(job.request.settings, job.request.outputs, job.request.interactive);
   await selectScene(job.request.sceneId, job.request.camera);
+  if (follower.jobId !== id) return;
   shutter.set(job.request.camera?.shutterClose ?? null);
   jobPanel.setTilesReceived(0);
   overlay.resize(width, height);
   debug.clear();
   showJob(job);
   state.running = new RunningTiles();
-  tiles.open(job.id, width, height);
-  if (["QUEUED", "RUNNING"].includes(stateOf(job))) {
-    state.poll = setInterval(async () => {
-      try {
-        const fresh = await getJob(id);
-        if (state.job?.id === id && state.poll) showJob(fresh);
-      } catch {
-        // the stream's end carries the final record anyway
-      }
-    }, POLL_MS);
-  }
+  tiles.open(job.id, width, height); // its records come to `follower`
   jobPanel.refreshHistory();
 }
 
@@ -200,7 +188,8 @@ tiles.addEventListener("tiles", (e) => {
   state.running?.finish(e.detail.tiles);
   overlay.setRunning(state.running?.running() ?? []);
 });
-tiles.addEventListener("end", (e) => {
+follower.addEventListener("job", (e) => showJob(e.detail));
+follower.addEventListener("end", (e) => {
   overlay.setRunning([]);
   showJob(e.detail);
   jobPanel.refreshHistory();
@@ -244,5 +233,5 @@ async function start() {
 }
 
 // For the console and the browser tests: the live objects, read-only by convention.
-window.rt = { viewer, settings, shutter, scenes, jobPanel, tiles, overlay, layers, debug, router, state };
+window.rt = { viewer, settings, shutter, scenes, jobPanel, tiles, follower, overlay, layers, debug, router, state };
 start();

@@ -28,13 +28,6 @@ export function enumName(enumName_, value) {
   return enumOf(enumName_).values.find((v) => v.number === value)?.name ?? String(value);
 }
 
-/** Enum number of a name. */
-export function enumValue(enumName_, name) {
-  const value = enumOf(enumName_).values.find((v) => v.name === name);
-  if (!value) throw new Error(`proto: rt.${enumName_} has no value ${name}`);
-  return value.number;
-}
-
 /** The values of an enum a user can choose (all but the _UNSPECIFIED zero). */
 export function enumChoices(enumName_) {
   return enumOf(enumName_).values.filter((v) => v.number !== 0);

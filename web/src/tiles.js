@@ -2,7 +2,8 @@
 // frames are decoded with the generated code, queued, and painted once per
 // animation frame. Preview tiles (scale > 1) cover each sample's whole block;
 // full-resolution tiles are put as they are, so the finished canvas holds
-// exactly the bytes of image.png.
+// exactly the bytes of image.png. The job's records on the stream (`job` as it
+// changes, `end` at its end) are handed on as events, for JobFollower.
 import { tileStreamUrl } from "./api.js";
 import { parseBinary } from "./proto.js";
 
@@ -70,6 +71,8 @@ export class TileView extends EventTarget {
       if (this._frame === null) this._frame = requestAnimationFrame(() => this._paint());
     } else if (message.message.case === "started") {
       this.dispatchEvent(new CustomEvent("started", { detail: message.message.value }));
+    } else if (message.message.case === "job") {
+      this.dispatchEvent(new CustomEvent("job", { detail: message.message.value }));
     } else if (message.message.case === "end") {
       this._ended = true;
       this._paint();

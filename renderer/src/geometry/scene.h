@@ -71,7 +71,6 @@ struct Scene {
         return lerp_position(positions[vertex], positions_close[vertex], time);
     }
 
-    size_t primitive_count() const { return triangles.size() + spheres.size(); }
     // Of everything over the whole shutter interval.
     Bounds3 bounds() const;
 };

@@ -1,5 +1,5 @@
-// Where a secondary ray starts. Instead of the seed's fixed 0.001 step along the
-// ray, the origin moves off the surface along the geometric normal by the
+// Where a secondary ray starts. Instead of the 2020 report's fixed 0.001 step
+// along the ray, the origin moves off the surface along the geometric normal by the
 // rounding-error bound of the computed hit point, then one more ulp outward
 // (pbrt-v4, "Robust Spawned Ray Origins"). The bound is relative to the point's
 // coordinates, so the method is as correct at scale 1e-4 as at 1e5.

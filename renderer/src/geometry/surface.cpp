@@ -33,9 +33,7 @@ SurfaceHit surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
     const dvec3 area = area_normal(p0, p1, p2);
     s.ng = area != dvec3(0.0) ? vec3(glm::normalize(area)) : -glm::normalize(ray.direction);
 
-    const vec3 n = b0 * normal(tri.x) + hit.u * normal(tri.y) + hit.v * normal(tri.z);
-    const float length = glm::length(n);
-    s.ns = length > 0.0f && std::isfinite(length) ? n / length : s.ng;
+    s.ns = try_normalize(b0 * normal(tri.x) + hit.u * normal(tri.y) + hit.v * normal(tri.z)).value_or(s.ng);
     if (!scene.texcoords.empty())
         s.uv = b0 * scene.texcoords[tri.x] + hit.u * scene.texcoords[tri.y] + hit.v * scene.texcoords[tri.z];
     s.material = scene.triangle_materials[hit.primitive];

@@ -23,9 +23,10 @@ struct SurfaceHit {
 // the vertices and normals are those at ray.time.
 SurfaceHit surface_at(const Scene& scene, const Ray& ray, const Hit& hit);
 
-// Orients both normals towards the side the ray came from (seed 2.1), flipping
-// them together so they stay consistent; a shading normal that still faces away
-// (interpolation at a silhouette) falls back to the geometric one.
+// Orients both normals towards the side the ray came from (the 2020 report's
+// section 2.1), flipping them together so they stay consistent; a shading
+// normal that still faces away (interpolation at a silhouette) falls back to
+// the geometric one.
 void face_viewer(SurfaceHit& s, vec3 towards_viewer);
 
 }  // namespace rt

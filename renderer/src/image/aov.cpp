@@ -92,13 +92,8 @@ AuxSample AuxPixel::mean() const {
 AuxImage::AuxImage(uint32_t w, uint32_t h, const std::vector<AuxOutput>& outputs) : width(w), height(h) {
     const size_t pixels = size_t(w) * h;
     for (AuxOutput output : outputs) {
-        const size_t values = pixels * aux_channel_count(output);
-        switch (output) {
-            case DEPTH: depth.assign(values, 0.0f); break;
-            case NORMAL: normal.assign(values, 0.0f); break;
-            case ALBEDO: albedo.assign(values, 0.0f); break;
-            default: bvh_cost.assign(values, 0u); break;  // aux_channel_count refused the rest
-        }
+        const size_t count = pixels * aux_channel_count(output);  // which refuses unknown outputs
+        with_layer(output, [&](auto& values) { values.assign(count, 0); });
     }
 }
 

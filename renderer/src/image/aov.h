@@ -88,6 +88,23 @@ struct AuxImage {
     AuxLayers layers();
     // One channel of one pixel, as a float (counts are exact below 2^24).
     float channel(AuxOutput output, size_t pixel, uint32_t channel) const;
+
+    // Calls f with the values of layer `output`, aux_channel_count(output) per
+    // pixel: a std::vector<float> for depth, normal and albedo, of uint32_t
+    // for the BVH cost.
+    template <class F>
+    void with_layer(AuxOutput output, F&& f) {
+        switch (output) {
+            case DEPTH: f(depth); break;
+            case NORMAL: f(normal); break;
+            case ALBEDO: f(albedo); break;
+            default: f(bvh_cost); break;
+        }
+    }
+    template <class F>
+    void with_layer(AuxOutput output, F&& f) const {
+        const_cast<AuxImage*>(this)->with_layer(output, [&](const auto& values) { f(values); });
+    }
 };
 
 }  // namespace rt

@@ -1,4 +1,4 @@
-// The pinhole camera of the origin document: a look-at frame and a vertical
+// The pinhole camera of the 2020 report: a look-at frame and a vertical
 // field of view; the horizontal one follows from the image's aspect ratio.
 // Given a pose at shutter close, it moves while the shutter is open: position,
 // target and up travel in straight lines, and each ray's frame is built from

@@ -42,10 +42,10 @@ FilmSampler::FilmSampler(const RenderSettings& settings) : filter_(settings.pixe
     const uint32_t samples = settings.samples_per_pixel();
     grid_side_ = uint32_t(std::lround(std::sqrt(double(samples))));
     if (grid_side_ * grid_side_ != samples)
-        throw std::invalid_argument("settings.samplesPerPixel: GRID takes a square number of samples (4, 9, 16, ...), "
+        throw std::invalid_argument("settings.samples_per_pixel: GRID takes a square number of samples (4, 9, 16, ...), "
                                     "not " + std::to_string(samples));
     if (settings.adaptive_threshold() > 0.0f)
-        throw std::invalid_argument("settings.adaptiveThreshold: adaptive sampling needs a filter whose samples can "
+        throw std::invalid_argument("settings.adaptive_threshold: adaptive sampling needs a filter whose samples can "
                                     "stop at any count; GRID visits its sub-pixels in a fixed order");
 }
 

@@ -2,7 +2,7 @@
 // from the reconstruction filter (filter importance sampling, so every sample
 // weighs the same and a pixel is the plain mean of its own samples, never
 // splatted into its neighbours, which may belong to another tile), or the
-// seed's regular grid of sub-pixel centres.
+// 2020 report's regular grid of sub-pixel centres.
 #pragma once
 
 #include <cstdint>

@@ -1,11 +1,9 @@
 #include "integrator/render.h"
 
 #include <algorithm>
-#include <atomic>
 #include <mutex>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "util/proto_limits.h"
@@ -177,28 +175,18 @@ Image Renderer::render(unsigned threads, uint32_t tile_size, const ProgressCallb
         for (uint32_t x = 0; x < width; x += tile_size)
             tiles.push_back({x, y, std::min(tile_size, width - x), std::min(tile_size, height - y)});
 
-    std::atomic<size_t> next{0};
     std::mutex mutex;  // guards stats, done and the progress callback
     size_t done = 0;
-    auto work = [&] {
-        RenderStats local;
-        for (size_t index; (index = next.fetch_add(1)) < tiles.size();) {
-            // Tiles write straight into the image: their pixels never overlap.
-            const TileRect& tile = tiles[index];
-            const size_t first = size_t(tile.y) * width + tile.x;
-            local += render_pixels(tile, 1, &image.rgb[first * 3], layers.from(first), width);
-            std::lock_guard lock(mutex);
-            ++done;
-            if (progress) progress(done, tiles.size());
-        }
+    parallel_for(threads, tiles.size(), [&](size_t index) {
+        // Tiles write straight into the image: their pixels never overlap.
+        const TileRect& tile = tiles[index];
+        const size_t first = size_t(tile.y) * width + tile.x;
+        const RenderStats tile_stats = render_pixels(tile, 1, &image.rgb[first * 3], layers.from(first), width);
         std::lock_guard lock(mutex);
-        stats += local;
-    };
-    std::vector<std::thread> pool;
-    const unsigned n = std::min<size_t>(resolve_thread_count(threads), tiles.size());
-    for (unsigned t = 1; t < n; ++t) pool.emplace_back(work);
-    work();
-    for (auto& thread : pool) thread.join();
+        stats += tile_stats;
+        ++done;
+        if (progress) progress(done, tiles.size());
+    });
     return image;
 }
 

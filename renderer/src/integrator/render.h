@@ -5,7 +5,7 @@
 //
 // When the camera or the scene moves, the pixel averages over the shutter
 // interval (rt.MotionBlur): each camera sample at its own time, stratified like
-// its film position (a lone sample at the middle), or, as the seed did, the
+// its film position (a lone sample at the middle), or, as the 2020 report did, the
 // mean of motion_frames whole frames at the centres of equal parts of the
 // interval, each taking the full samples_per_pixel.
 #pragma once
@@ -63,7 +63,9 @@ class Renderer {
     // `camera`; throws std::invalid_argument naming a bad field.
     Renderer(const Accelerator& accel, RenderSettings settings, Camera camera);
 
+    // The settings and camera as checked, every default filled in.
     const RenderSettings& settings() const { return settings_; }
+    const Camera& camera() const { return camera_; }
 
     // Throws std::invalid_argument when `tile` is not inside the image or
     // `scale` is 0: render_tile's checks, for callers sizing buffers first.
@@ -87,7 +89,8 @@ class Renderer {
     RenderStats render_tile(ThreadPool& pool, const TileRect& tile, float* rgb, const AuxLayers& aux = {},
                             uint32_t scale = 1, uint32_t known_stride = 0, std::stop_token stop = {}) const;
 
-    // The whole image on `threads` threads (0: all cores) in square tiles, and
+    // The whole image on `threads` threads (0: all cores; rt::parallel_for, so
+    // the render pool's when it has that many) in square tiles, and
     // the layers `aux` holds, when given (it must have the image's size).
     Image render(unsigned threads, uint32_t tile_size, const ProgressCallback& progress, RenderStats& stats,
                  AuxImage* aux = nullptr) const;

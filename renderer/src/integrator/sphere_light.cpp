@@ -49,8 +49,8 @@ bool SphereLightSampler::sample_cone(vec2 u, SphereLightSample& sample) const {
     return true;
 }
 
-// Uniform over the sphere's area, as the seed chose its 200 points. The seed
-// then counted the unblocked points and scaled a point light by their share,
+// Uniform over the sphere's area, as the 2020 report chose its 200 points. The
+// report then counted the unblocked points and scaled a point light by their share,
 // which is biased twice: points on the far side counted as visible (the light
 // does not block its own rays there), and every point weighed the same
 // whatever its distance and the angle it is seen at. Weighting each point by

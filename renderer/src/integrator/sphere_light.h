@@ -1,5 +1,6 @@
 // Spherical lights: the radiance they emit, and the points on them that shadow
-// rays aim at (seed section 5, with an estimator that converges to the truth).
+// rays aim at (the 2020 report's section 5, with an estimator that converges to
+// the truth).
 #pragma once
 
 #include "util/math.h"

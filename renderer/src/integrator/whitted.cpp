@@ -176,10 +176,10 @@ WhittedIntegrator::WhittedIntegrator(const Accelerator& accel, const RenderSetti
         std::snprintf(rays, sizeof rays, "%.3g", bound);
         std::snprintf(cutoff, sizeof cutoff, "%g", double(min_contribution_));
         throw std::invalid_argument(
-            "settings.maxDepth: " + std::to_string(max_depth_) + " with settings.minContribution " + cutoff +
+            "settings.max_depth: " + std::to_string(max_depth_) + " with settings.min_contribution " + cutoff +
             " lets one camera ray split into up to " + rays +
             " rays at this scene's transparent surfaces (the most allowed is " +
-            std::to_string(uint64_t(kMaxRaysPerCameraSample)) + "): lower maxDepth or raise minContribution");
+            std::to_string(uint64_t(kMaxRaysPerCameraSample)) + "): lower max_depth or raise min_contribution");
     }
 }
 
@@ -278,7 +278,7 @@ template <class Recorder>
 vec3 WhittedIntegrator::follow(const SurfaceHit& s, vec3 direction, RayKind kind, vec3 local_weight, uint32_t depth,
                                vec3 weight, int parent, const PixelSampler& sampler, Recorder& recorder) const {
     // Follow only while the light can still show in the pixel: the product of
-    // weights along the path, not just this surface's (seed 3.3).
+    // weights along the path, not just this surface's (the 2020 report's 3.3).
     const vec3 path_weight = weight * local_weight;
     if (depth >= max_depth_ || !(max_component(path_weight) > min_contribution_)) return vec3(0.0f);
     // spawn_ray offsets to the side `direction` leaves on: through the surface

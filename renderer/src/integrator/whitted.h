@@ -1,4 +1,4 @@
-// The Whitted integrator of the origin document: Phong shading from every light
+// The Whitted integrator of the 2020 report: Phong shading from every light
 // with shadow rays (sections 2, 4, 5), plus recursive mirror reflection (section
 // 3) and refraction through smooth dielectrics (docs/materials.md), both cut off
 // when the path weight can no longer change the pixel. Spherical lights are

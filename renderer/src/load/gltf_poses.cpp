@@ -21,18 +21,46 @@ bool all_finite(const std::vector<double>& values) {
     return true;
 }
 
-// A quaternion made unit length, or nothing for one that is zero or not finite.
-std::optional<dquat> unit_rotation(dquat q) {
-    const double length = glm::length(q);
-    if (!(length > 0.0) || !std::isfinite(length)) return std::nullopt;
-    return q / length;
-}
-
 // The first and the last keyframe value of one animation sampler's output.
 struct EndValues {
     glm::dvec4 first;
     glm::dvec4 last;
 };
+
+// Those of `sampler`, its output read as `type` (VEC3, with w = 0, or VEC4),
+// after checking its keyframe times and its output's size; `what` names it.
+EndValues read_end_values(const tinygltf::Model& model, const tinygltf::AnimationSampler& sampler,
+                          const std::string& what, int type) {
+    const GltfAccessor input(model, sampler.input, what + " input", TINYGLTF_TYPE_SCALAR,
+                             {TINYGLTF_COMPONENT_TYPE_FLOAT});
+    const size_t keys = input.count();
+    if (keys == 0) throw SceneError(input.what() + " has no keyframes");
+    for (size_t k = 0; k < keys; ++k) {
+        const float time = input.float_at(k);
+        if (!std::isfinite(time))
+            throw SceneError(input.what() + " keyframe time " + std::to_string(k) + " is not finite");
+        if (k > 0 && !(time > input.float_at(k - 1)))
+            throw SceneError(input.what() + " keyframe times do not increase at element " + std::to_string(k));
+    }
+    // A cubic spline keeps an in-tangent, the value and an out-tangent per keyframe.
+    size_t stride = 1, offset = 0;
+    if (sampler.interpolation == "CUBICSPLINE") stride = 3, offset = 1;
+    else if (sampler.interpolation != "LINEAR" && sampler.interpolation != "STEP")
+        throw SceneError(what + " has unknown interpolation " + in_quotes(sampler.interpolation));
+    const GltfAccessor output(model, sampler.output, what + " output", type, {TINYGLTF_COMPONENT_TYPE_FLOAT});
+    if (output.count() != stride * keys)
+        throw SceneError(output.what() + " has " + std::to_string(output.count()) + " elements for " +
+                         std::to_string(keys) + " keyframes, expected " + std::to_string(stride * keys));
+    const auto value = [&](size_t key) {
+        const size_t element = stride * key + offset;
+        const glm::vec4 v =
+            type == TINYGLTF_TYPE_VEC4 ? output.vec4_at(element) : glm::vec4(output.vec3_at(element), 0.0f);
+        if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z) || !std::isfinite(v.w))
+            throw SceneError(output.what() + " element " + std::to_string(element) + " is not finite");
+        return glm::dvec4(v);
+    };
+    return {value(0), value(keys - 1)};
+}
 
 }  // namespace
 
@@ -83,38 +111,10 @@ void GltfPoses::read_first_animation(std::vector<std::string>& warnings) {
     std::vector<std::optional<EndValues>> read(2 * animation.samplers.size());
     const auto end_values = [&](size_t index, int type) -> const EndValues& {
         std::optional<EndValues>& cached = read[2 * index + (type == TINYGLTF_TYPE_VEC4)];
-        if (cached) return *cached;
-        const tinygltf::AnimationSampler& sampler = animation.samplers[index];
-        const std::string what = name_ + ": " + at("animations[0].samplers", index);
-        const GltfAccessor input(model_, sampler.input, what + " input", TINYGLTF_TYPE_SCALAR,
-                                 {TINYGLTF_COMPONENT_TYPE_FLOAT});
-        const size_t keys = input.count();
-        if (keys == 0) throw SceneError(input.what() + " has no keyframes");
-        for (size_t k = 0; k < keys; ++k) {
-            const float time = input.float_at(k);
-            if (!std::isfinite(time))
-                throw SceneError(input.what() + " keyframe time " + std::to_string(k) + " is not finite");
-            if (k > 0 && !(time > input.float_at(k - 1)))
-                throw SceneError(input.what() + " keyframe times do not increase at element " + std::to_string(k));
-        }
-        // A cubic spline keeps an in-tangent, the value and an out-tangent per keyframe.
-        size_t stride = 1, offset = 0;
-        if (sampler.interpolation == "CUBICSPLINE") stride = 3, offset = 1;
-        else if (sampler.interpolation != "LINEAR" && sampler.interpolation != "STEP")
-            throw SceneError(what + " has unknown interpolation " + in_quotes(sampler.interpolation));
-        const GltfAccessor output(model_, sampler.output, what + " output", type, {TINYGLTF_COMPONENT_TYPE_FLOAT});
-        if (output.count() != stride * keys)
-            throw SceneError(output.what() + " has " + std::to_string(output.count()) + " elements for " +
-                             std::to_string(keys) + " keyframes, expected " + std::to_string(stride * keys));
-        const auto value = [&](size_t key) {
-            const size_t element = stride * key + offset;
-            const glm::vec4 v =
-                type == TINYGLTF_TYPE_VEC4 ? output.vec4_at(element) : glm::vec4(output.vec3_at(element), 0.0f);
-            if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z) || !std::isfinite(v.w))
-                throw SceneError(output.what() + " element " + std::to_string(element) + " is not finite");
-            return glm::dvec4(v);
-        };
-        return cached.emplace(EndValues{value(0), value(keys - 1)});
+        if (!cached)
+            cached = read_end_values(model_, animation.samplers[index],
+                                     name_ + ": " + at("animations[0].samplers", index), type);
+        return *cached;
     };
 
     std::set<std::pair<int, std::string>> animated;
@@ -146,7 +146,7 @@ void GltfPoses::read_first_animation(std::vector<std::string>& warnings) {
         if (rotation) {
             // glTF's order is x, y, z, w.
             const auto as_rotation = [&](glm::dvec4 v) {
-                const auto q = unit_rotation(dquat(v.w, v.x, v.y, v.z));
+                const auto q = try_normalize(dquat(v.w, v.x, v.y, v.z));
                 if (!q) fail(what + " turns " + at("nodes", size_t(node)) + " by a zero quaternion");
                 return *q;
             };
@@ -175,7 +175,7 @@ NodeTransform GltfPoses::rest(const tinygltf::Node& node, const std::string& wha
     if (!node.translation.empty()) rest.translation = glm::make_vec3(node.translation.data());
     if (!node.rotation.empty()) {
         const auto& r = node.rotation;
-        const auto q = unit_rotation(dquat(r[3], r[0], r[1], r[2]));  // glTF stores x, y, z, w
+        const auto q = try_normalize(dquat(r[3], r[0], r[1], r[2]));  // glTF stores x, y, z, w
         if (!q) fail(what + ".rotation is not a rotation");
         rest.rotation = *q;
     }

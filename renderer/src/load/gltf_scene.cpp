@@ -68,8 +68,20 @@ class GltfSceneBuilder {
         dmat4 open{1.0};
         dmat4 close{1.0};
     };
+    // A primitive's accessors, their counts checked against POSITION's.
+    struct Attributes {
+        GltfAccessor positions;
+        std::optional<GltfAccessor> normals, texcoords, indices;
+    };
     std::vector<Reference> root_nodes() const;
     void add_primitive(const tinygltf::Primitive& primitive, const std::string& what, const World& world);
+    // Nothing, with a warning, for a primitive without positions.
+    std::optional<Attributes> read_attributes(const tinygltf::Primitive& primitive, const std::string& what);
+    std::vector<uint32_t> corner_vertices(const Attributes& attributes, const std::string& what) const;
+    // Appends the primitive's vertices in world space; returns the first one's index.
+    size_t add_vertices(const Attributes& attributes, const World& world);
+    void add_triangles(int mode, const std::vector<uint32_t>& corners, size_t count, size_t base, bool mirrored,
+                       uint32_t material);
     void add_camera(const tinygltf::Node& node, const std::string& what, const World& world);
     void add_light(const tinygltf::Node& node, const std::string& what, const dmat4& world);
 
@@ -152,72 +164,95 @@ void GltfSceneBuilder::add_primitive(const tinygltf::Primitive& primitive, const
     }
     if (mode < TINYGLTF_MODE_POINTS || mode > TINYGLTF_MODE_TRIANGLE_FAN)
         fail(what + " has unknown primitive mode " + std::to_string(mode));
+    const std::optional<Attributes> attributes = read_attributes(primitive, what);
+    if (!attributes) return;
+
+    // Every count here is backed by buffer data of at least that many elements.
+    const size_t n = attributes->positions.count();
+    const size_t c = attributes->indices ? attributes->indices->count() : n;
+    if (mode == TINYGLTF_MODE_TRIANGLES && c % 3 != 0)
+        fail(what + " has " + std::to_string(c) + " corners, not a multiple of 3");
+    const size_t triangle_count = mode == TINYGLTF_MODE_TRIANGLES ? c / 3 : (c >= 3 ? c - 2 : 0);
+    check_geometry_limits(loaded_.scene, n, triangle_count, name_ + ": " + what);
+    const std::vector<uint32_t> corners = corner_vertices(*attributes, what);
+
+    // A mirroring transform reverses the winding; we reverse it back so it keeps
+    // matching the normals. (One that starts mirroring during the shutter
+    // interval leaves it to face_viewer, where the normals win.)
+    const bool mirrored = glm::determinant(dmat3(world.open)) < 0.0;
+    const size_t base = add_vertices(*attributes, world);
+
+    if (primitive.material < -1)
+        fail(what + ".material refers to material " + std::to_string(primitive.material) + ", which does not exist");
+    add_triangles(mode, corners, triangle_count, base, mirrored, materials_.material(primitive.material, what));
+}
+
+std::optional<GltfSceneBuilder::Attributes> GltfSceneBuilder::read_attributes(const tinygltf::Primitive& primitive,
+                                                                              const std::string& what) {
     const auto attribute = [&](const char* semantic) {
         const auto it = primitive.attributes.find(semantic);
         return it == primitive.attributes.end() ? -1 : it->second;
     };
     if (attribute("POSITION") == -1) {
         warn(what + " has no POSITION attribute: skipped");
-        return;
+        return std::nullopt;
     }
     using Types = std::initializer_list<int>;
     const Types floats{TINYGLTF_COMPONENT_TYPE_FLOAT};
     const std::string prefix = name_ + ": " + what;
-    const GltfAccessor positions(model_, attribute("POSITION"), prefix + " POSITION", TINYGLTF_TYPE_VEC3, floats);
-    const size_t n = positions.count();
-    std::optional<GltfAccessor> normals, texcoords, indices;
+    Attributes a{GltfAccessor(model_, attribute("POSITION"), prefix + " POSITION", TINYGLTF_TYPE_VEC3, floats), {},
+                 {}, {}};
+    const size_t n = a.positions.count();
     if (attribute("NORMAL") != -1)
-        normals.emplace(model_, attribute("NORMAL"), prefix + " NORMAL", TINYGLTF_TYPE_VEC3, floats);
+        a.normals.emplace(model_, attribute("NORMAL"), prefix + " NORMAL", TINYGLTF_TYPE_VEC3, floats);
     if (attribute("TEXCOORD_0") != -1) {
-        texcoords.emplace(model_, attribute("TEXCOORD_0"), prefix + " TEXCOORD_0", TINYGLTF_TYPE_VEC2,
-                          Types{TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
-                                TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT});
-        if (texcoords->component_type() != TINYGLTF_COMPONENT_TYPE_FLOAT && !texcoords->normalized())
+        a.texcoords.emplace(model_, attribute("TEXCOORD_0"), prefix + " TEXCOORD_0", TINYGLTF_TYPE_VEC2,
+                            Types{TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                                  TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT});
+        if (a.texcoords->component_type() != TINYGLTF_COMPONENT_TYPE_FLOAT && !a.texcoords->normalized())
             fail(what + " TEXCOORD_0 has integer components that are not normalized");
     }
-    for (const auto* attr : {&normals, &texcoords})
+    for (const auto* attr : {&a.normals, &a.texcoords})
         if (*attr && (*attr)->count() != n)
             throw SceneError((*attr)->what() + " has " + std::to_string((*attr)->count()) +
                              " elements, but POSITION has " + std::to_string(n));
     if (primitive.indices != -1)
-        indices.emplace(model_, primitive.indices, prefix + " indices", TINYGLTF_TYPE_SCALAR,
-                        Types{TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
-                              TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT});
+        a.indices.emplace(model_, primitive.indices, prefix + " indices", TINYGLTF_TYPE_SCALAR,
+                          Types{TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                                TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT});
+    return a;
+}
 
-    // Every count here is backed by buffer data of at least that many elements.
-    const size_t c = indices ? indices->count() : n;
-    if (mode == TINYGLTF_MODE_TRIANGLES && c % 3 != 0)
-        fail(what + " has " + std::to_string(c) + " corners, not a multiple of 3");
-    const size_t triangle_count = mode == TINYGLTF_MODE_TRIANGLES ? c / 3 : (c >= 3 ? c - 2 : 0);
-    Scene& scene = loaded_.scene;
-    check_geometry_limits(scene, n, triangle_count, prefix);
-
-    // The vertex of each corner, in the order the mode gives them.
+// The vertex of each corner, in the order the mode gives them.
+std::vector<uint32_t> GltfSceneBuilder::corner_vertices(const Attributes& attributes, const std::string& what) const {
+    const size_t n = attributes.positions.count();
+    const size_t c = attributes.indices ? attributes.indices->count() : n;
     std::vector<uint32_t> corners(c);
     for (size_t i = 0; i < c; ++i) {
-        corners[i] = indices ? indices->index_at(i) : uint32_t(i);
+        corners[i] = attributes.indices ? attributes.indices->index_at(i) : uint32_t(i);
         if (corners[i] >= n)
             fail(what + " index " + std::to_string(corners[i]) + " (element " + std::to_string(i) +
                  ") is out of range: POSITION has " + std::to_string(n) + " elements");
     }
+    return corners;
+}
 
-    // A mirroring transform reverses the winding; we reverse it back so it keeps
-    // matching the normals. (One that starts mirroring during the shutter
-    // interval leaves it to face_viewer, where the normals win.)
-    const double det = glm::determinant(dmat3(world.open));
+size_t GltfSceneBuilder::add_vertices(const Attributes& attributes, const World& world) {
+    const GltfAccessor& positions = attributes.positions;
+    const std::optional<GltfAccessor>& normals = attributes.normals;
+    const std::optional<GltfAccessor>& texcoords = attributes.texcoords;
+    Scene& scene = loaded_.scene;
     const bool moving = poses_.moving();
     const dmat3 normals_open = normal_matrix(dmat3(world.open)), normals_close = normal_matrix(dmat3(world.close));
     const auto transform_normal = [](const dmat3& matrix, vec3 normal) {
-        const dvec3 transformed = matrix * dvec3(normal);
-        const double length = glm::length(transformed);
-        return length > 0.0 && std::isfinite(length) ? vec3(transformed / length) : vec3(0.0f);
+        return vec3(try_normalize(matrix * dvec3(normal)).value_or(dvec3(0.0)));
     };
     if (texcoords && !loaded_.has_texcoords) {
         scene.texcoords.assign(scene.positions.size(), vec2(0.0f));
         loaded_.has_texcoords = true;
     }
     const size_t base = scene.positions.size();
-    for (size_t i = 0; i < n; ++i) {
+    for (size_t i = 0; i < positions.count(); ++i) {
         const std::string element = " element " + std::to_string(i);
         const vec3 p = positions.vec3_at(i);
         if (!is_finite(p)) throw SceneError(positions.what() + element + " is not finite");
@@ -241,15 +276,19 @@ void GltfSceneBuilder::add_primitive(const tinygltf::Primitive& primitive, const
             scene.texcoords.push_back(uv);
         }
     }
+    return base;
+}
 
-    if (primitive.material < -1)
-        fail(what + ".material refers to material " + std::to_string(primitive.material) + ", which does not exist");
-    const uint32_t material = materials_.material(primitive.material, what);
+// `count` triangles of `corners` in the order `mode` gives them, their vertices
+// counted from `base`, wound back when the transform mirrors them.
+void GltfSceneBuilder::add_triangles(int mode, const std::vector<uint32_t>& corners, size_t count, size_t base,
+                                     bool mirrored, uint32_t material) {
+    Scene& scene = loaded_.scene;
     const auto add = [&](uint32_t a, uint32_t b, uint32_t d) {
-        scene.triangles.push_back(uvec3(base) + (det < 0.0 ? uvec3(a, d, b) : uvec3(a, b, d)));
+        scene.triangles.push_back(uvec3(base) + (mirrored ? uvec3(a, d, b) : uvec3(a, b, d)));
         scene.triangle_materials.push_back(material);
     };
-    for (size_t i = 0; i < triangle_count; ++i) {
+    for (size_t i = 0; i < count; ++i) {
         if (mode == TINYGLTF_MODE_TRIANGLES)
             add(corners[3 * i], corners[3 * i + 1], corners[3 * i + 2]);
         else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP)  // odd triangles swap two corners to keep the winding

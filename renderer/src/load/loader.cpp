@@ -50,10 +50,9 @@ void add_extras(SceneAdditions& additions, Scene& scene) {
         scene.spheres.push_back({sphere.center, sphere.radius, uint32_t(scene.materials.size())});
         scene.materials.push_back(std::move(sphere.material));
     }
-    for (auto& light : additions.lights)
-        scene.lights.push_back({std::move(light.name), light.position, light.intensity, light.radius});
+    for (auto& light : additions.lights) scene.lights.push_back(std::move(light));
     if (additions.background) scene.background = *additions.background;
-    for (auto& camera : additions.cameras) scene.cameras.push_back({std::move(camera.name), std::move(camera.camera)});
+    for (auto& camera : additions.cameras) scene.cameras.push_back(std::move(camera));
 }
 
 // Triangles no ray can hit (no area, or a vertex that is not finite, at both
@@ -138,8 +137,7 @@ void complete_normals(const std::vector<uvec3>& triangles, const std::vector<vec
             n = glm::normalize(n);
             continue;
         }
-        const double length = glm::length(sums[v]);
-        n = length > 0.0 && std::isfinite(length) ? vec3(sums[v] / length) : vec3(first[v]);
+        n = vec3(try_normalize(sums[v]).value_or(first[v]));
     }
 }
 

@@ -23,11 +23,9 @@ SceneAdditions::Motion read_motion(const NodeMotion& motion, const std::string& 
     if (motion.rotation_size() == 4) {
         // glTF's order: x, y, z, w. Rounded input is made a rotation again.
         const auto& r = motion.rotation();
-        const dquat q(r[3], r[0], r[1], r[2]);
-        const double length = glm::length(q);
-        if (!(length > 0.0) || !std::isfinite(length))
-            throw std::invalid_argument(source + ".rotation: is not a rotation (a zero quaternion)");
-        out.close.rotation = q / length;
+        const std::optional<dquat> q = try_normalize(dquat(r[3], r[0], r[1], r[2]));
+        if (!q) throw std::invalid_argument(source + ".rotation: is not a rotation (a zero quaternion)");
+        out.close.rotation = *q;
     }
     const auto& s = motion.scale();
     if (s.size() == 3) out.close.scale = dvec3(s[0], s[1], s[2]);

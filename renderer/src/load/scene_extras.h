@@ -13,9 +13,9 @@
 #include <vector>
 
 #include "geometry/material.h"
+#include "geometry/scene.h"
 #include "util/math.h"
 #include "load/node_transform.h"
-#include "rt/render.pb.h"
 
 namespace rt {
 
@@ -26,16 +26,6 @@ struct SceneAdditions {
         float radius = 0.0f;
         Material material;
     };
-    struct Emitter {
-        std::string name;
-        vec3 position{0.0f};
-        vec3 intensity{0.0f};  // colour times intensity
-        float radius = 0.0f;   // > 0: a spherical light
-    };
-    struct NamedCamera {
-        std::string name;
-        Camera camera;
-    };
     // An rt.NodeMotion, for the format loaders to apply: they know the nodes.
     struct Motion {
         std::string node;
@@ -43,9 +33,9 @@ struct SceneAdditions {
         NodeTransformParts close;
     };
     std::vector<ShadedSphere> spheres;
-    std::vector<Emitter> lights;
+    std::vector<Light> lights;
     std::optional<vec3> background;
-    std::vector<NamedCamera> cameras;
+    std::vector<SceneCamera> cameras;
     std::vector<Motion> motions;
 };
 

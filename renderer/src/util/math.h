@@ -1,8 +1,10 @@
 // Vector types and the few numeric helpers every part of the renderer shares.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 
 #include <glm/glm.hpp>
 
@@ -44,6 +46,17 @@ inline vec3 normalize_any_scale(vec3 v) { return glm::normalize(v / max_componen
 
 inline bool is_finite(vec3 v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// v / |v|, or nothing when |v| is zero or not finite (a component is infinite
+// or NaN, or the squares overflow): for any glm vector or quaternion, whose
+// callers each say what takes the place of a direction that cannot be had.
+template <class V>
+std::optional<V> try_normalize(const V& v) {
+    using glm::length;  // found for quaternions too, by argument
+    const auto l = length(v);
+    if (!(l > 0) || !std::isfinite(l)) return std::nullopt;
+    return v / l;
 }
 
 }  // namespace rt

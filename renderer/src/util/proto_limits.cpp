@@ -103,7 +103,7 @@ void apply_limits(Message& message, std::string_view path) {
     for (int i = 0; i < descriptor->field_count(); ++i) {
         const FieldDescriptor* field = descriptor->field(i);
         const Limits& limits = field->options().GetExtension(rt::limits);
-        const std::string field_path = std::string(path) + "." + field->json_name();
+        const std::string field_path = path.empty() ? field->name() : std::string(path) + "." + field->name();
 
         if (field->is_repeated()) {
             const int size = reflection->FieldSize(message, field);
@@ -140,12 +140,16 @@ void apply_limits(Message& message, std::string_view path) {
     }
 }
 
-void parse_json_message(std::string_view json, Message& message, std::string_view path) {
+void read_json_message(std::string_view json, Message& message, std::string_view path) {
     google::protobuf::util::JsonParseOptions options;
     options.ignore_unknown_fields = false;
     const auto status = google::protobuf::util::JsonStringToMessage(
         google::protobuf::StringPiece(json.data(), json.size()), &message, options);
-    if (!status.ok()) fail(path, "invalid JSON: " + std::string(status.message()));
+    if (!status.ok()) fail(path.empty() ? "body" : path, "invalid JSON: " + std::string(status.message()));
+}
+
+void parse_json_message(std::string_view json, Message& message, std::string_view path) {
+    read_json_message(json, message, path);
     apply_limits(message, path);
 }
 

@@ -12,12 +12,17 @@ namespace rt {
 // Fills absent optional fields that declare a default, then checks every field
 // and sub-message against its limits, and every enum against the values its
 // type names (an absent enum field is its zero value, the default). Throws
-// std::invalid_argument naming the field path, e.g. "settings.width: 0 is
-// below the minimum 1".
+// std::invalid_argument naming the field path by the proto's field names, as
+// API users write them, e.g. "settings.max_depth: 65 is above the maximum 64".
+// An empty `path` names top-level fields alone ("scene_id: ...").
 void apply_limits(google::protobuf::Message& message, std::string_view path);
 
-// Parses the JSON form of a message (unknown fields are an error), then applies
-// its limits. Throws std::invalid_argument naming `path` and the problem.
+// Parses the JSON form of a message (field names as written in the .proto or
+// in lowerCamelCase; unknown fields are an error), without applying limits.
+// Throws std::invalid_argument naming `path` and the problem.
+void read_json_message(std::string_view json, google::protobuf::Message& message, std::string_view path);
+
+// read_json_message, then apply_limits.
 void parse_json_message(std::string_view json, google::protobuf::Message& message,
                         std::string_view path);
 

@@ -97,4 +97,21 @@ void set_render_threads(unsigned threads) {
     // `old` is joined here, outside the lock, unless a render still holds it.
 }
 
+void parallel_for(unsigned threads, size_t count, const std::function<void(size_t)>& body) {
+    const unsigned size = resolve_thread_count(threads);
+    if (std::min<size_t>(size, count) <= 1) {
+        for (size_t i = 0; i < count; ++i) body(i);
+        return;
+    }
+    std::shared_ptr<ThreadPool> pool;
+    {
+        std::lock_guard lock(pool_mutex);
+        // render_pool(), unless it has another size: then it is not created for nothing.
+        if (!shared_pool && size == resolve_thread_count(0)) shared_pool = std::make_shared<ThreadPool>(size);
+        if (shared_pool && shared_pool->size() == size) pool = shared_pool;
+    }
+    if (!pool) pool = std::make_shared<ThreadPool>(unsigned(std::min<size_t>(size, count)));
+    pool->parallel_for(count, body);
+}
+
 }  // namespace rt

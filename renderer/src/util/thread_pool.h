@@ -59,4 +59,14 @@ std::shared_ptr<ThreadPool> render_pool();
 // it has that size already. Renders running on the old pool finish on it.
 void set_render_threads(unsigned threads);
 
+// Calls body(i) for every i in [0, count) on `threads` threads (0: all cores),
+// or on as many as there are items when those are fewer, and returns when all
+// calls have returned; an exception as ThreadPool::parallel_for. One thread
+// is the caller's own; a request of the render pool's size runs on the render
+// pool, sharing the cores with whatever else renders now rather than adding
+// threads of its own; any other size on a pool started for the call (the
+// caller waits). Not for the render pool's own threads: waiting on the pool
+// they belong to, they could all end up waiting.
+void parallel_for(unsigned threads, size_t count, const std::function<void(size_t)>& body);
+
 }  // namespace rt

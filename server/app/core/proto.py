@@ -1,12 +1,14 @@
 """The proto/ schema on the Python side: request bodies in, JSON out, and the
 OpenAPI schemas /docs shows, all from the generated code.
 
-Request bodies are validated by rtcore (C++), the same code the CLI and the
-workers use, so every side fills the same defaults and refuses the same values.
+Render requests are completed and validated by rtcore (C++), the same code the
+CLI and the workers use, so every side fills the same defaults and refuses the
+same values.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any, TypeVar
 
 import rtcore
@@ -20,29 +22,21 @@ M = TypeVar("M", bound=Message)
 FILES = (render_pb2, scene_pb2, debug_pb2, job_pb2)
 
 
-def parse(message_type: type[M], body: bytes | str, path: str = "body") -> M:
-    """The JSON form of a message, checked against the schema's limits and with
-    its defaults filled in. Raises ValueError naming the field."""
+def normalize(message_type: type[M], body: bytes | str, scene_of: Callable[[M], rtcore.Scene]) -> M:
+    """The one way a render request (rt.JobRequest, rt.DebugRayRequest) enters:
+    its JSON read (field names and types), the scene it is for found by
+    `scene_of` (which raises what a missing scene is), then completed and
+    checked once by that scene (rtcore Scene.complete): absent settings take
+    the schema's defaults, an absent camera the scene's default view, every
+    field its limits, and the camera and settings the renderer's own checks.
+    Raises ValueError naming the field as API users write it."""
     text = body.decode("utf-8", errors="strict") if isinstance(body, bytes) else body
     if not text.strip():
-        raise ValueError(f"{path}: expected a JSON object, got an empty body")
-    data = rtcore.parse_message(message_type.DESCRIPTOR.full_name, text, path)
-    return message_type.FromString(data)
-
-
-def fill_absent(message: Message, *fields: str) -> None:
-    """Gives absent sub-messages their schema defaults (the limits only fill
-    fields of messages that are present)."""
-    for name in fields:
-        if not message.HasField(name):
-            getattr(message, name).CopyFrom(parse(type(getattr(message, name)), "{}", name))
-
-
-def complete(message: M, path: str) -> M:
-    """A message built in Python (or read back from storage), checked and with
-    its defaults filled in by the same code as parse()."""
-    data = rtcore.parse_message(message.DESCRIPTOR.full_name, to_json_text(message), path)
-    return type(message).FromString(data)
+        raise ValueError("body: expected a JSON object, got an empty body")
+    name = message_type.DESCRIPTOR.full_name
+    read = rtcore.parse_message(name, text, "body", limits=False)
+    scene = scene_of(message_type.FromString(read))
+    return message_type.FromString(scene.complete(name, read))
 
 
 def to_dict(message: Message) -> dict[str, Any]:

@@ -18,6 +18,7 @@ import dask
 import rtcore
 from dask.highlevelgraph import HighLevelGraph, MaterializedLayer
 from distributed import Client, Future, LocalCluster, WorkerPlugin
+from rt import job_pb2
 
 from ..core.allocator import keep_freed_memory
 from ..core.config import Settings
@@ -60,9 +61,10 @@ class RenderWorkerSetup(WorkerPlugin):
 
 
 class RenderCluster:
-    def __init__(self, client: Client, local: LocalCluster | None):
+    def __init__(self, client: Client, local: LocalCluster | None, address: str = ""):
         self.client = client
         self._local = local
+        self._address = address  # of the scheduler joined, for a cluster not embedded
 
     @classmethod
     async def start(cls, settings: Settings) -> "RenderCluster":
@@ -70,7 +72,7 @@ class RenderCluster:
             client = await Client(settings.scheduler, asynchronous=True, timeout="20s")
             await client.register_plugin(RenderWorkerSetup())
             log.info("joined the Dask scheduler at %s", settings.scheduler)
-            return cls(client, None)
+            return cls(client, None, settings.scheduler)
         # Read as the scheduler and worker start, so the rest of the process keeps Dask's defaults.
         with dask.config.set(EMBEDDED_DASK_CONFIG):
             local = await LocalCluster(n_workers=1, threads_per_worker=settings.embedded_threads, processes=False,
@@ -114,6 +116,13 @@ class RenderCluster:
 
     def worker_count(self) -> int:
         return len(self.client.scheduler_info().get("workers", {}))
+
+    def health(self) -> job_pb2.Health:
+        """Whether the cluster can take work: "degraded" without a worker."""
+        workers = self.worker_count()
+        return job_pb2.Health(status="ok" if workers else "degraded",
+                              cluster="embedded" if self.embedded else self._address,
+                              workers=workers, threads=self.total_threads() if workers else 0)
 
     async def close(self) -> None:
         await self.client.close()

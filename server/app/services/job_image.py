@@ -31,6 +31,11 @@ def png_bytes(rgba: np.ndarray) -> bytes:
     return out.getvalue()
 
 
+def read_rgba(path: Path) -> np.ndarray:
+    """An image file's pixels as RGBA8 (h, w, 4): image.png back as the stream's tiles hold it."""
+    return np.asarray(Image.open(path).convert("RGBA"))
+
+
 def _heat(values: np.ndarray) -> np.ndarray:
     """A perceptual-ish heat ramp (black, purple, orange, yellow, white) over [0, 1]."""
     stops = np.array([[0, 0, 0], [80, 18, 123], [230, 80, 40], [252, 200, 40], [255, 255, 255]], np.float32)

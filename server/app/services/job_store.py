@@ -76,8 +76,3 @@ class JobStore:
                 f"SELECT record FROM jobs WHERE state IN ({','.join('?' * len(ACTIVE_STATES))}) "
                 "ORDER BY created_at", ACTIVE_STATES).fetchall()
         return [job_pb2.Job.FromString(r[0]) for r in rows]
-
-    def for_scene(self, scene_id: str) -> list[job_pb2.Job]:
-        with self._db() as db:
-            rows = db.execute("SELECT record FROM jobs WHERE scene_id = ?", (scene_id,)).fetchall()
-        return [job_pb2.Job.FromString(r[0]) for r in rows]

@@ -3,8 +3,9 @@ job record, the tile stream and the finished images.
 
 Each tile is one Dask task (tile_tasks.render_tile), which writes its pixels
 into the job's layer files. The server keeps the job's record, forwards each
-tile to the job's viewers as it comes back, and persists the record at each
-change of state, so that a restart can pick the job up again from the start.
+tile to the job's viewers as it comes back, then the record it changed, and
+persists the record at each change of state, so that a restart can pick the
+job up again from the start.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ import secrets
 import shutil
 import time
 from collections import OrderedDict
+from collections.abc import AsyncIterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -22,10 +24,11 @@ from distributed import as_completed
 from rt import job_pb2
 
 from ..core.config import Settings
-from ..core.proto import complete, fill_absent
+from ..core.proto import normalize
 from . import layer_files
 from .cluster import RenderCluster
-from .job_image import bloom_layers, output_file
+from .errors import Conflict, Invalid, NotFound
+from .job_image import bloom_layers, output_file, read_rgba
 from .job_store import JobStore
 from .scene_store import SceneStore, StoredScene
 from .streams import TileStream
@@ -35,14 +38,6 @@ from .tile_tasks import TILE_STARTED_TOPIC, aux_names, render_tile
 log = logging.getLogger("rt.jobs")
 
 FINAL_STATES = (job_pb2.DONE, job_pb2.FAILED, job_pb2.CANCELLED)
-
-
-class JobError(ValueError):
-    """A request the service cannot run; `status` is the HTTP status to answer."""
-
-    def __init__(self, message: str, status: int):
-        super().__init__(message)
-        self.status = status
 
 
 @dataclass
@@ -73,34 +68,36 @@ class JobManager:
 
     # --- requests -----------------------------------------------------------
 
-    def validate(self, request: job_pb2.JobRequest) -> StoredScene:
-        """Fills the camera from the scene when absent, and tries the request on
-        the renderer so that its own checks (camera, settings) answer now
-        rather than inside a worker. Raises JobError."""
-        stored = self._scenes.get(request.scene_id)
+    def scene(self, scene_id: str) -> StoredScene:
+        """The stored scene a request names; NotFound naming the field."""
+        stored = self._scenes.get(scene_id)
         if stored is None:
-            raise JobError(f"scene_id: no scene with id '{request.scene_id}'", 404)
-        if not request.HasField("camera"):
-            request.camera.CopyFrom(stored.info.default_camera)
-        fill_absent(request, "settings")
-        pixels = request.settings.width * request.settings.height
-        if pixels > self._settings.max_job_pixels:
-            raise JobError(f"settings: {request.settings.width}x{request.settings.height} is {pixels} pixels, "
-                           f"above this server's limit of {self._settings.max_job_pixels}", 422)
-        try:
-            stored.load().check(request.camera.SerializeToString(), request.settings.SerializeToString())
-        except ValueError as e:
-            raise JobError(str(e), 422) from None
+            raise NotFound(f"scene_id: no scene with id '{scene_id}'")
         return stored
 
-    def prepare(self, request: job_pb2.JobRequest) -> tuple[job_pb2.Job, StoredScene]:
-        """A queued job record for a valid request, saved; blocking (run it off
-        the event loop). Raises JobError or ValueError naming the problem."""
-        stored = self.validate(request)
-        job = job_pb2.Job(id=secrets.token_hex(8), state=job_pb2.QUEUED, created_at=time.time())
-        job.request.CopyFrom(complete(request, "body"))
+    def prepare(self, body: bytes) -> tuple[job_pb2.Job, StoredScene]:
+        """A queued job record for a JSON rt.JobRequest, completed and checked
+        for its scene (core.proto.normalize) so that the renderer's own checks
+        answer now rather than inside a worker, and saved; blocking (run it
+        off the event loop). Raises NotFound or Invalid naming the problem."""
+        try:
+            request = normalize(job_pb2.JobRequest, body, lambda r: self.scene(r.scene_id).load())
+        except ValueError as e:
+            raise Invalid(str(e)) from None
+        pixels = request.settings.width * request.settings.height
+        if pixels > self._settings.max_job_pixels:
+            raise Invalid(f"settings: {request.settings.width}x{request.settings.height} is {pixels} pixels, "
+                          f"above this server's limit of {self._settings.max_job_pixels}")
+        job = job_pb2.Job(id=secrets.token_hex(8), state=job_pb2.QUEUED, created_at=time.time(), request=request)
         self._store.save(job)
-        return job, stored
+        return job, self.scene(request.scene_id)
+
+    async def submit(self, body: bytes) -> job_pb2.Job:
+        """Queues a JSON rt.JobRequest as a new job and starts it. Raises
+        NotFound (no such scene) or Invalid naming the problem."""
+        job, stored = await asyncio.to_thread(self.prepare, body)
+        self.start(job, stored)
+        return job
 
     def start(self, job: job_pb2.Job, stored: StoredScene) -> None:
         running = RunningJob(job, stored)
@@ -125,9 +122,11 @@ class JobManager:
             await asyncio.gather(running.task, return_exceptions=True)
         return running.record
 
-    async def cancel_scene(self, scene_id: str) -> None:
+    async def delete_scene(self, scene_id: str) -> None:
+        """Cancels the scene's running jobs, then deletes the scene (its jobs' records stay)."""
         for job_id in [j for j, r in self._running.items() if r.record.request.scene_id == scene_id]:
             await self.cancel(job_id, "the scene was deleted")
+        self._scenes.delete(scene_id)
 
     def stream(self, job_id: str) -> TileStream | None:
         running = self._running.get(job_id)
@@ -137,6 +136,36 @@ class JobManager:
 
     def folder(self, job_id: str) -> Path:
         return self._settings.jobs_dir / job_id
+
+    async def finished_file(self, job: job_pb2.Job, filename: str) -> Path:
+        """output_file for a request: Conflict while the job is not done,
+        NotFound when it has no such layer."""
+        if job.state != job_pb2.DONE:
+            raise Conflict(f"job '{job.id}' is {job_pb2.JobState.Name(job.state).lower()}: "
+                           "its image exists once it is done")
+        try:
+            return await self.output_file(job.id, filename)
+        except FileNotFoundError:
+            name = filename.rsplit(".", 1)[0]
+            raise NotFound(f"job '{job.id}' has no {name} output (ask for it in the request's outputs)") from None
+
+    async def tile_messages(self, job: job_pb2.Job) -> AsyncIterator[bytes]:
+        """The job's tile stream as a viewer receives it (serialized
+        rt.TileStreamMessage): its TileStream, live or kept; for a finished job
+        no longer held in memory, its image.png as one tile, then the record."""
+        stream = self.stream(job.id)
+        if stream is not None:
+            async for message in stream.follow():
+                yield message
+            return
+        rgba = None
+        if job.state == job_pb2.DONE:
+            try:
+                rgba = await asyncio.to_thread(read_rgba, await self.output_file(job.id, "image.png"))
+            except FileNotFoundError:
+                pass  # the stream still ends with the record
+        for message in final_image_stream(job, rgba):
+            yield message
 
     async def output_file(self, job_id: str, filename: str) -> Path:
         """A done job's image.png, image.exr or <layer>.png, made when first
@@ -215,18 +244,19 @@ class JobManager:
                 self._tiles.pop(future.key, None)
                 if job.state == job_pb2.QUEUED:
                     job.state = job_pb2.RUNNING
-                    job.started_at = result["started"]
+                    job.started_at = result.started
                     # The store keeps states, not progress: a restart runs a job again from the start.
                     self._store.save(job)
-                await running.stream.publish(result["message"])
+                await running.stream.publish(result.message)
                 job.tiles_done += 1
                 # Previews count too: their pixels are part of the image.
                 pixels_done += spec.pixels
-                camera_samples += result["samples"]
+                camera_samples += result.samples
                 job.progress = pixels_done / total_pixels
                 job.mean_samples_per_pixel = camera_samples / pixels_done
-                job.render_seconds += result["seconds"]
-                job.rays += result["rays"]
+                job.render_seconds += result.seconds
+                job.rays += result.rays
+                await running.stream.update(job)  # its new state (the first tile's) and progress
             if bloom:
                 await self._bloom(running, folder, len(passes))
             layer_files.complete(folder)
@@ -260,10 +290,9 @@ class JobManager:
         job = running.record
         settings = job.request.settings
         rgba = await asyncio.to_thread(bloom_layers, folder, settings.SerializeToString())
-        region = job_pb2.TileRegion(**{"pass": pass_index}, x=0, y=0, w=settings.width, h=settings.height)
-        tile = job_pb2.Tile(job=job.id, region=region, scale=1, pixels=rgba)
-        await running.stream.publish(job_pb2.TileStreamMessage(tile=tile).SerializeToString())
+        await running.stream.publish(whole_image_tile(job.id, pass_index, settings.width, settings.height, rgba))
         job.tiles_done += 1
+        await running.stream.update(job)
 
 
 def final_image_stream(job: job_pb2.Job, rgba) -> list[bytes]:
@@ -272,8 +301,13 @@ def final_image_stream(job: job_pb2.Job, rgba) -> list[bytes]:
     messages = []
     if rgba is not None:
         h, w = rgba.shape[:2]
-        region = job_pb2.TileRegion(**{"pass": max(job.passes, 1) - 1}, x=0, y=0, w=w, h=h)
-        tile = job_pb2.Tile(job=job.id, region=region, scale=1, pixels=rgba.tobytes())
-        messages.append(job_pb2.TileStreamMessage(tile=tile).SerializeToString())
+        messages.append(whole_image_tile(job.id, max(job.passes, 1) - 1, w, h, rgba.tobytes()))
     messages.append(job_pb2.TileStreamMessage(end=job).SerializeToString())
     return messages
+
+
+def whole_image_tile(job_id: str, pass_index: int, width: int, height: int, rgba: bytes) -> bytes:
+    """The stream's message for a whole image (RGBA8 bytes) as one tile of `pass_index`."""
+    region = job_pb2.TileRegion(**{"pass": pass_index}, x=0, y=0, w=width, h=height)
+    tile = job_pb2.Tile(job=job_id, region=region, scale=1, pixels=rgba)
+    return job_pb2.TileStreamMessage(tile=tile).SerializeToString()

@@ -38,13 +38,16 @@ import threading
 from pathlib import Path
 
 import numpy as np
+import rtcore
+from rt import job_pb2
 
 PARTIAL = "part.layers"
 COMPLETE = "layers"
 LAYOUT = "layout.json"
 
 # Channels of each auxiliary layer, as rtcore.render_tile returns them.
-AUX_CHANNELS = {"depth": 1, "normal": 3, "albedo": 3, "bvh_cost": 2}
+AUX_CHANNELS = {name.lower(): rtcore.aux_channel_count(name)
+                for name in job_pb2.AuxOutput.keys() if job_pb2.AuxOutput.Value(name) != 0}
 
 
 def create(job_folder: Path, width: int, height: int, tile: int, aux: list[str]) -> Path:

@@ -65,8 +65,3 @@ def get_scene(content_hash: str, path: str | Path) -> rtcore.Scene:
 def forget(content_hash: str) -> None:
     with _lock:
         _scenes.pop(content_hash, None)
-
-
-def cached_hashes() -> list[str]:
-    with _lock:
-        return list(_scenes)

@@ -18,7 +18,7 @@ from typing import BinaryIO
 
 import rtcore
 from google.protobuf.json_format import Parse
-from rt import job_pb2, render_pb2
+from rt import job_pb2
 
 from ..core.config import Settings
 from ..core.proto import to_json_text
@@ -37,19 +37,10 @@ class StoredScene:
 
 
 def _scene_info(scene_id: str, name: str, upload: StoredUpload, scene: rtcore.Scene) -> job_pb2.SceneInfo:
-    lo, hi = scene.bounds
-    info = job_pb2.SceneInfo(
-        id=scene_id, name=name, format=upload.format, triangle_count=scene.triangle_count,
-        sphere_count=scene.sphere_count, degenerate_triangles=scene.degenerate_triangles,
-        bounds_min=lo, bounds_max=hi, warnings=scene.warnings, created_at=time.time(),
-        size_bytes=upload.size_bytes)
-    for light in scene.lights:
-        # rtcore gives colour times intensity; the record keeps it as the colour.
-        info.lights.add(position=light["position"], color=light["intensity"], intensity=1.0,
-                        radius=light["radius"])
-    for camera_name, camera in scene.cameras:
-        info.cameras.add(name=camera_name, camera=render_pb2.Camera.FromString(camera))
-    info.default_camera.ParseFromString(scene.default_camera)
+    """What the renderer tells of the scene, and what the upload adds."""
+    info = job_pb2.SceneInfo.FromString(scene.info)
+    info.MergeFrom(job_pb2.SceneInfo(id=scene_id, name=name, format=upload.format, created_at=time.time(),
+                                     size_bytes=upload.size_bytes))
     return info
 
 
@@ -90,7 +81,7 @@ class SceneStore:
             try:
                 scene = scene_cache.get_scene(upload.sha256, upload.scene_file)
             except ValueError as e:
-                raise UploadError(f"{Path(filename).name}: {e}", status=400) from None
+                raise UploadError(f"{Path(filename).name}: {e}") from None
             info = _scene_info(scene_id, name or Path(filename).name, upload, scene)
             if upload.left_out:
                 shown = ", ".join(upload.left_out[:5]) + (", ..." if len(upload.left_out) > 5 else "")

@@ -12,7 +12,6 @@ from __future__ import annotations
 import threading
 import time
 from collections import OrderedDict
-from typing import Any
 
 import numpy as np
 import rtcore
@@ -55,18 +54,27 @@ def stop_run(run_id: str) -> None:
     _stop_source(run_id).request_stop()
 
 
+def layer_message(name: str, array: np.ndarray) -> job_pb2.Layer:
+    return job_pb2.Layer(name=name, shape=array.shape, dtype=array.dtype.str, data=array.tobytes())
+
+
+def layer_array(layer: job_pb2.Layer) -> np.ndarray:
+    return np.frombuffer(layer.data, np.dtype(layer.dtype)).reshape(tuple(layer.shape))
+
+
 def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, job_id: str, run_id: str, layers_dir: str,
-                spec: TileSpec, preview: dict[str, Any] | None = None) -> dict[str, Any] | None:
-    """Renders one tile. A full-resolution tile writes its layers into the
-    job's layer files in `layers_dir`; a preview answers them, arrays of
-    ceil(h/scale) x ceil(w/scale) pixels, for the tiles that take its pixels.
-    Either answers the tile as the stream sends it to viewers (a serialized
-    rt.TileStreamMessage, its RGBA8 pixels through the job's exposure and tone
-    map), made here so that the server's event loop only forwards it; the rays
-    traced and camera samples taken; and when the worker started and how long
-    it took. `preview` is the result of spec.preview, whose pixels on its grid
-    the tile takes instead of tracing them. None when the job's run was
-    stopped (stop_run) before the tile was done."""
+                spec: TileSpec, preview: job_pb2.TileResult | None = None) -> job_pb2.TileResult | None:
+    """Renders one tile, answered as an rt.TileResult. A full-resolution tile
+    writes its layers into the job's layer files in `layers_dir`; a preview
+    answers them, arrays of ceil(h/scale) x ceil(w/scale) pixels, for the
+    tiles that take its pixels. Either answers the tile as the stream sends it
+    to viewers (a serialized rt.TileStreamMessage, its RGBA8 pixels through
+    the job's exposure and tone map), made here so that the server's event
+    loop only forwards it; the rays traced and camera samples taken; and when
+    the worker started and how long it took. `preview` is the result of
+    spec.preview, whose pixels on its grid the tile takes instead of tracing
+    them. None when the job's run was stopped (stop_run) before the tile was
+    done."""
     started = time.time()
     stop = _stop_source(run_id)
     if stop.stop_requested:
@@ -81,7 +89,7 @@ def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, job_id: 
     if spec.preview is not None and preview is not None:
         stride = spec.preview.scale
         window = spec.preview_window()
-        known = {name: np.ascontiguousarray(layer[window]) for name, layer in preview["layers"].items()}
+        known = {layer.name: np.ascontiguousarray(layer_array(layer)[window]) for layer in preview.layers}
     # With aux given (even empty) rtcore answers a dict that also counts the rays.
     try:
         layers = scene.render_tile(camera, settings, spec.x, spec.y, spec.w, spec.h, scale=spec.scale,
@@ -95,11 +103,9 @@ def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, job_id: 
                         pixels=rtcore.encode_srgb8(layers["color"], settings).tobytes())
     if spec.scale == 1:
         layer_files.write_tile(layers_dir, spec.x, spec.y, layers)
-    return {
-        "layers": layers if spec.scale > 1 else None,
-        "message": job_pb2.TileStreamMessage(tile=tile).SerializeToString(),
-        "rays": rays,
-        "samples": samples,
-        "started": started,
-        "seconds": time.time() - started,
-    }
+    result = job_pb2.TileResult(message=job_pb2.TileStreamMessage(tile=tile).SerializeToString(), rays=rays,
+                                samples=samples, started=started)
+    if spec.scale > 1:
+        result.layers.extend(layer_message(name, array) for name, array in layers.items())
+    result.seconds = time.time() - started
+    return result

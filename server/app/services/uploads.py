@@ -13,7 +13,7 @@ Checks that live here, before any scene parser runs:
   the declared and the actually unpacked size, and exactly one scene file.
 
 Checks that live in the renderer's loader (rtcore.Scene.load, whose ValueError
-the caller turns into a 400): everything inside the scene files, and every
+the caller turns into an UploadError): everything inside the scene files, and every
 reference they make (buffers, images, .mtl, textures, the .rt.json sidecar),
 which must stay inside the scene file's own folder: no URLs, absolute paths,
 '..' or symbolic links leading out.
@@ -31,6 +31,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO, Iterator
 
+from .errors import Refused, TooLarge, UnsupportedType
+
 SCENE_FORMATS = ("glb", "gltf", "obj")
 # What a scene's folder may hold: scene files, glTF buffers, OBJ materials, the
 # .rt.json sidecar, and the textures the renderer decodes. Other files in a zip
@@ -47,12 +49,16 @@ _DRIVE = re.compile(r"^[A-Za-z]:")
 _SAFE_METHODS = (zipfile.ZIP_STORED, zipfile.ZIP_DEFLATED)
 
 
-class UploadError(ValueError):
-    """A refused upload; str(e) names the problem in plain words for the user (HTTP 400/413/415)."""
+class UploadError(Refused):
+    """A refused upload: bad content; str(e) names the problem in plain words for the user."""
 
-    def __init__(self, message: str, status: int = 400) -> None:
-        super().__init__(message)
-        self.status = status  # 400 bad content, 413 too large, 415 unsupported type
+
+class UploadTooLarge(UploadError, TooLarge):
+    """An upload, or what a zip unpacks to, over a size or count limit."""
+
+
+class UploadTypeRefused(UploadError, UnsupportedType):
+    """A file of a type that is not a scene or a zip of one."""
 
 
 @dataclass(frozen=True)
@@ -116,8 +122,8 @@ def _sanitized_name(filename: str) -> tuple[str, str]:
     extension = extension.lower()
     if not dot or extension not in (*SCENE_FORMATS, "zip"):
         what = f"{_shown('.' + extension)} files are" if dot else f"{_shown(name)} has no extension and is"
-        raise UploadError(f"{what} not accepted: upload a .glb, .gltf or .obj scene, "
-                          "or a .zip holding one scene and its files", status=415)
+        raise UploadTypeRefused(f"{what} not accepted: upload a .glb, .gltf or .obj scene, "
+                                "or a .zip holding one scene and its files")
     # Letters, digits and a few harmless marks; no leading dot (a hidden file).
     stem = re.sub(r"[^\w .()+-]", "_", stem).lstrip(". ") or "scene"
     return f"{stem}.{extension}", extension
@@ -130,7 +136,7 @@ def _receive(stream: BinaryIO, target: Path, max_bytes: int) -> tuple[int, str]:
         while chunk := stream.read(min(_CHUNK, max_bytes + 1 - size)):
             size += len(chunk)
             if size > max_bytes:
-                raise UploadError(f"the upload is larger than the limit of {max_bytes} bytes", status=413)
+                raise UploadTooLarge(f"the upload is larger than the limit of {max_bytes} bytes")
             digest.update(chunk)
             out.write(chunk)
     if size == 0:
@@ -190,11 +196,10 @@ def _extract_zip(spooled: BinaryIO, folder: Path, max_unpacked_bytes: int,
         archive = zipfile.ZipFile(spooled)  # holds no resource of its own: closing `spooled` is enough
     infos = archive.infolist()
     if len(infos) > max_files:
-        raise UploadError(f"the zip holds {len(infos)} entries, more than the limit of {max_files}", status=413)
+        raise UploadTooLarge(f"the zip holds {len(infos)} entries, more than the limit of {max_files}")
     declared = sum(info.file_size for info in infos)
     if declared > max_unpacked_bytes:
-        raise UploadError(f"the zip unpacks to {declared} bytes, more than the limit of {max_unpacked_bytes}",
-                          status=413)
+        raise UploadTooLarge(f"the zip unpacks to {declared} bytes, more than the limit of {max_unpacked_bytes}")
     entries, files, dirs = [], set(), set()
     for info in infos:
         parts, is_dir = _entry_parts(info)
@@ -253,7 +258,7 @@ def _unpack(archive: zipfile.ZipFile, info: zipfile.ZipInfo, target: Path, budge
                 return budget
             budget -= len(chunk)
             if budget < 0:
-                raise UploadError(f"the zip unpacks to more than the limit of {limit} bytes", status=413)
+                raise UploadTooLarge(f"the zip unpacks to more than the limit of {limit} bytes")
             out.write(chunk)
 
 

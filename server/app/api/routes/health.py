@@ -3,17 +3,14 @@
 from __future__ import annotations
 
 from fastapi import APIRouter, Request
+from rt import job_pb2
+
+from ...core.proto import json_response
+from ..deps import proto_json
 
 router = APIRouter(prefix="/api", tags=["health"])
 
 
-@router.get("/health")
+@router.get("/health", responses={200: json_response(job_pb2.Health, "The cluster's workers and threads")})
 def health(request: Request):
-    cluster = request.app.state.cluster
-    workers = cluster.worker_count()
-    return {
-        "status": "ok" if workers else "degraded",
-        "cluster": "embedded" if cluster.embedded else request.app.state.settings.scheduler,
-        "workers": workers,
-        "threads": cluster.total_threads() if workers else 0,
-    }
+    return proto_json(request.app.state.cluster.health())

@@ -3,20 +3,17 @@ stream over WebSocket."""
 
 from __future__ import annotations
 
-import asyncio
-
-import numpy as np
-from fastapi import APIRouter, Depends, HTTPException, Query, Request, WebSocket, WebSocketDisconnect
+from fastapi import APIRouter, Depends, Query, Request, WebSocket, WebSocketDisconnect
 from fastapi.responses import FileResponse, Response
-from PIL import Image
 from rt import job_pb2
 
-from ...core.proto import json_body, json_response, parse
+from ...core.proto import json_body, json_response
 from ...core.security import is_authorized
+from ...services.errors import NotFound
 from ...services.job_image import heat_ramp_png
+from ...services.jobs import JobManager
 from ...services.layer_files import AUX_CHANNELS
-from ...services.jobs import JobError, JobManager, final_image_stream
-from ..deps import jobs, proto_json
+from ..deps import job_or_404, jobs, proto_json
 
 router = APIRouter(prefix="/api/jobs", tags=["jobs"])
 
@@ -24,24 +21,10 @@ IMAGE_NAMES = ("image",) + tuple(AUX_CHANNELS)
 HEAT_RAMP_PNG = heat_ramp_png()
 
 
-def job_or_404(manager: JobManager, job_id: str) -> job_pb2.Job:
-    job = manager.get(job_id)
-    if job is None:
-        raise HTTPException(404, f"no job with id '{job_id}'")
-    return job
-
-
 @router.post("", status_code=202, openapi_extra=json_body(job_pb2.JobRequest),
              responses={202: json_response(job_pb2.Job, "The queued job; Location is its address")})
 async def submit_job(request: Request, manager: JobManager = Depends(jobs)):
-    try:
-        body = parse(job_pb2.JobRequest, await request.body())
-        job, stored = await asyncio.to_thread(manager.prepare, body)
-    except JobError as e:
-        raise HTTPException(e.status, str(e)) from None
-    except ValueError as e:
-        raise HTTPException(422, str(e)) from None
-    manager.start(job, stored)
+    job = await manager.submit(await request.body())
     return proto_json(job, 202, {"Location": f"/api/jobs/{job.id}"})
 
 
@@ -69,31 +52,20 @@ async def cancel_job(job_id: str, manager: JobManager = Depends(jobs)):
     return proto_json(await manager.cancel(job_id))
 
 
-async def _output(manager: JobManager, job_id: str, filename: str):
-    job = job_or_404(manager, job_id)
-    if job.state != job_pb2.DONE:
-        raise HTTPException(409, f"job '{job_id}' is {job_pb2.JobState.Name(job.state).lower()}: "
-                                 "its image exists once it is done")
-    try:
-        return await manager.output_file(job_id, filename)
-    except FileNotFoundError:
-        name = filename.rsplit(".", 1)[0]
-        raise HTTPException(404, f"job '{job_id}' has no {name} output (ask for it in the request's outputs)") from None
-
-
 @router.get("/{job_id}/image.exr", response_class=FileResponse,
             responses={200: {"content": {"image/x-exr": {}}, "description": "Linear colour and auxiliary layers"}})
 async def job_exr(job_id: str, manager: JobManager = Depends(jobs)):
-    return FileResponse(await _output(manager, job_id, "image.exr"), media_type="image/x-exr",
-                        filename=f"{job_id}.exr")
+    path = await manager.finished_file(job_or_404(manager, job_id), "image.exr")
+    return FileResponse(path, media_type="image/x-exr", filename=f"{job_id}.exr")
 
 
 @router.get("/{job_id}/{name}.png", response_class=FileResponse,
             responses={200: {"content": {"image/png": {}}, "description": "sRGB colour, or an auxiliary layer"}})
 async def job_png(job_id: str, name: str, manager: JobManager = Depends(jobs)):
     if name not in IMAGE_NAMES:
-        raise HTTPException(404, f"no image named '{name}.png' (one of: {', '.join(IMAGE_NAMES)})")
-    return FileResponse(await _output(manager, job_id, f"{name}.png"), media_type="image/png")
+        raise NotFound(f"no image named '{name}.png' (one of: {', '.join(IMAGE_NAMES)})")
+    path = await manager.finished_file(job_or_404(manager, job_id), f"{name}.png")
+    return FileResponse(path, media_type="image/png")
 
 
 @router.websocket("/{job_id}/tiles")
@@ -110,20 +82,8 @@ async def tile_stream(websocket: WebSocket, job_id: str):
         await websocket.close(code=4404, reason=f"no job with id '{job_id}'")
         return
     try:
-        stream = manager.stream(job_id)
-        if stream is not None:
-            async for message in stream.follow():
-                await websocket.send_bytes(message)
-        else:
-            rgba = None
-            if job.state == job_pb2.DONE:
-                try:
-                    png = await manager.output_file(job_id, "image.png")
-                    rgba = await asyncio.to_thread(lambda: np.asarray(Image.open(png).convert("RGBA")))
-                except FileNotFoundError:
-                    pass  # the stream still ends with the record
-            for message in final_image_stream(job, rgba):
-                await websocket.send_bytes(message)
+        async for message in manager.tile_messages(job):
+            await websocket.send_bytes(message)
         await websocket.close()
     except WebSocketDisconnect:
         pass

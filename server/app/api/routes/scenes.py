@@ -5,14 +5,14 @@ from __future__ import annotations
 
 import asyncio
 
-from fastapi import APIRouter, Depends, File, HTTPException, Query, Request, UploadFile
+from fastapi import APIRouter, Depends, File, Query, Request, UploadFile
 from fastapi.responses import FileResponse, Response
 from rt import debug_pb2, job_pb2
 
-from ...core.proto import fill_absent, json_body, json_response, parse
+from ...core.proto import json_body, json_response
+from ...services import debugger
 from ...services.jobs import JobManager
 from ...services.scene_store import SceneStore
-from ...services.uploads import UploadError
 from ..deps import jobs, proto_json, scene_or_404, scenes
 
 router = APIRouter(prefix="/api/scenes", tags=["scenes"])
@@ -21,10 +21,7 @@ router = APIRouter(prefix="/api/scenes", tags=["scenes"])
 @router.post("", status_code=201, responses={201: json_response(job_pb2.SceneInfo, "The stored scene")})
 async def upload_scene(file: UploadFile = File(..., description=".glb, .gltf, .obj, or a .zip of a scene with its files"),
                        store: SceneStore = Depends(scenes)):
-    try:
-        stored = await asyncio.to_thread(store.create, file.filename or "", file.file)
-    except UploadError as e:
-        raise HTTPException(e.status, str(e)) from None
+    stored = await asyncio.to_thread(store.create, file.filename or "", file.file)
     return proto_json(stored.info, 201, {"Location": f"/api/scenes/{stored.info.id}"})
 
 
@@ -41,8 +38,7 @@ def get_scene(scene_id: str, store: SceneStore = Depends(scenes)):
 @router.delete("/{scene_id}", status_code=204)
 async def delete_scene(scene_id: str, store: SceneStore = Depends(scenes), manager: JobManager = Depends(jobs)):
     scene_or_404(store, scene_id)
-    await manager.cancel_scene(scene_id)
-    store.delete(scene_id)
+    await manager.delete_scene(scene_id)
     return Response(status_code=204)
 
 
@@ -58,30 +54,11 @@ async def scene_model(scene_id: str, store: SceneStore = Depends(scenes)):
              responses={200: json_response(debug_pb2.DebugPath, "Every ray traced for the pixel")})
 async def debug_ray(scene_id: str, request: Request, store: SceneStore = Depends(scenes)):
     stored = scene_or_404(store, scene_id)
-    try:
-        body = parse(job_pb2.DebugRayRequest, await request.body())
-        fill_absent(body, "settings")
-    except ValueError as e:
-        raise HTTPException(422, str(e)) from None
-    camera = body.camera if body.HasField("camera") else stored.info.default_camera
-    x, y = body.pixel
-    if x >= body.settings.width or y >= body.settings.height:
-        raise HTTPException(422, f"pixel: ({x}, {y}) is outside the {body.settings.width}x{body.settings.height} image")
-    scene = await asyncio.to_thread(stored.load)
-    try:
-        data = await asyncio.to_thread(scene.debug_path, camera.SerializeToString(),
-                                       body.settings.SerializeToString(), x, y)
-    except ValueError as e:
-        raise HTTPException(422, str(e)) from None
-    return proto_json(debug_pb2.DebugPath.FromString(data))
+    return proto_json(await debugger.debug_ray(stored, await request.body()))
 
 
 @router.get("/{scene_id}/bvh", responses={200: json_response(debug_pb2.BvhBoxes, "The boxes of one BVH level")})
 async def bvh_boxes(scene_id: str, level: int = Query(0, ge=0, description="0 is the root"),
                     leaves: bool = Query(False, description="all leaf boxes instead of one level"),
                     store: SceneStore = Depends(scenes)):
-    scene = await asyncio.to_thread(scene_or_404(store, scene_id).load)
-    boxes = debug_pb2.BvhBoxes.FromString(scene.bvh_boxes(-1 if leaves else level))
-    if not leaves and level >= boxes.total_levels:
-        raise HTTPException(422, f"level: {level} is past the deepest level {boxes.total_levels - 1}")
-    return proto_json(boxes)
+    return proto_json(await debugger.bvh_boxes(scene_or_404(store, scene_id), level, leaves))

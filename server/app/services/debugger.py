@@ -1,0 +1,52 @@
+"""The pixel debugger's views of a stored scene: every ray traced for one pixel
+(rtcore's debug_path, the render's own trace) and the BVH boxes of one level.
+The renderer runs in a worker thread, never on the event loop."""
+
+from __future__ import annotations
+
+import asyncio
+
+from rt import debug_pb2, job_pb2
+
+from ..core.proto import normalize
+from .errors import Invalid
+from .scene_store import StoredScene
+
+
+def read_request(stored: StoredScene, body: bytes) -> job_pb2.DebugRayRequest:
+    """A JSON rt.DebugRayRequest completed for the scene and checked
+    (core.proto.normalize); blocking. Raises Invalid naming the field."""
+    try:
+        request = normalize(job_pb2.DebugRayRequest, body, lambda _: stored.load())
+    except ValueError as e:
+        raise Invalid(str(e)) from None
+    x, y = request.pixel
+    if x >= request.settings.width or y >= request.settings.height:
+        raise Invalid(f"pixel: ({x}, {y}) is outside the {request.settings.width}x{request.settings.height} image")
+    return request
+
+
+def _debug_path(stored: StoredScene, body: bytes) -> debug_pb2.DebugPath:
+    request = read_request(stored, body)
+    data = stored.load().debug_path(request.camera.SerializeToString(), request.settings.SerializeToString(),
+                                    *request.pixel)
+    return debug_pb2.DebugPath.FromString(data)
+
+
+async def debug_ray(stored: StoredScene, body: bytes) -> debug_pb2.DebugPath:
+    """Every ray traced for the pixel a JSON rt.DebugRayRequest names, through
+    its camera or else the scene's default one. Raises Invalid naming the problem."""
+    return await asyncio.to_thread(_debug_path, stored, body)
+
+
+def _bvh_boxes(stored: StoredScene, level: int) -> debug_pb2.BvhBoxes:
+    return debug_pb2.BvhBoxes.FromString(stored.load().bvh_boxes(level))
+
+
+async def bvh_boxes(stored: StoredScene, level: int, leaves: bool) -> debug_pb2.BvhBoxes:
+    """The boxes of one BVH level (0 is the root), or every leaf box. Raises
+    Invalid for a level past the deepest."""
+    boxes = await asyncio.to_thread(_bvh_boxes, stored, -1 if leaves else level)
+    if not leaves and level >= boxes.total_levels:
+        raise Invalid(f"level: {level} is past the deepest level {boxes.total_levels - 1}")
+    return boxes
