@@ -116,7 +116,7 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
     scratch = tempfile.TemporaryDirectory(prefix="rt-scaling-")
     layers = ""
 
-    def run_image(client, tiles) -> list[dict]:
+    def run_image(client, tiles) -> list[job_pb2.TileResult]:
         futures = [client.submit(render_tile, scene_key, str(scene_path), request, "bench", "bench", layers, t,
                                  pure=False)
                    for t in tiles]
@@ -138,7 +138,7 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
             client.register_plugin(RenderWorkerSetup())  # as the service does: one render thread per Dask thread
             workers[n] = median_time(lambda: run_image(client, tiles), repeats)
             if n == 1:
-                rendered = sum(r["seconds"] for r in run_image(client, tiles))
+                rendered = sum(r.seconds for r in run_image(client, tiles))
                 pixel_s = rendered / (size * size)
                 latency = median_time(lambda: run_image(client, [TileSpec(0, 0, 0, 1, 1, 1, 0)]), repeats)
                 overhead = max(0.0, (workers[1] - rendered - latency) / len(tiles))
