@@ -365,6 +365,7 @@ describe("rt viewer", { timeout: 170_000 }, () => {
       const text = (id_) => document.getElementById(id_).textContent;
       const sample = () => window.__panel.push({ state: text("job-state"), progress: document.getElementById("job-progress").value,
         left: text("job-left"), tiles: text("job-tiles"), at: performance.now() });
+      window.__sample = sample;
       window.__sampler = setInterval(sample, 40);
       window.rt.router.go(id);
     }, job.id);
@@ -376,6 +377,7 @@ describe("rt viewer", { timeout: 170_000 }, () => {
     page.off("request", count);
     const { panel, records } = await page.evaluate(() => {
       clearInterval(window.__sampler);
+      window.__sample(); // the panel as it ended: the last 40 ms sample may predate "done"
       return { panel: window.__panel, records: window.__records };
     });
     const record = await api(`/api/jobs/${job.id}`);
