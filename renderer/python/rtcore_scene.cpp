@@ -92,7 +92,16 @@ nb::bytes PyScene::info() const {
         add_vec3(spec->mutable_color(), light.intensity);
         spec->set_intensity(1.0f);
         spec->set_radius(light.radius);
+        spec->set_kind(light.kind);
+        if (light.kind != rt::POINT) add_vec3(spec->mutable_direction(), light.direction);
+        if (light.kind == rt::SPOT) {
+            spec->set_inner_cone_angle(std::acos(light.cos_inner) * 180.0f / rt::kPi);
+            spec->set_outer_cone_angle(std::acos(light.cos_outer) * 180.0f / rt::kPi);
+        }
+        spec->set_range(light.range);
+        spec->set_angular_diameter(light.angular_diameter * 180.0f / rt::kPi);
     }
+    info.set_light_rig(scene_->rig_lights > 0);
     for (const rt::SceneCamera& camera : scene_->cameras) {
         rt::NamedCamera* named = info.add_cameras();
         named->set_name(camera.name);

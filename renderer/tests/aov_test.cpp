@@ -172,7 +172,7 @@ TEST(Aov, AlbedoCarriesTheTexture) {
     add_quad(scene, vec3(-5.0f, -5.0f, -2.0f), vec3(10.0f, 0.0f, 0.0f), vec3(0.0f, 10.0f, 0.0f), material);
     scene.texcoords.assign(scene.positions.size(), vec2(0.5f));
     scene.textures.push_back({1, 1, {vec3(0.2f, 0.4f, 0.6f)}});
-    scene.materials[material].diffuse_texture = 0;
+    scene.materials[material].base_color_texture.index = 0;
     const Accelerator accel(scene, 1);
     const Renderer renderer(accel, make_settings(4, 4), make_camera(vec3(0.0f), vec3(0.0f, 0.0f, -1.0f)));
     const TileResult result = render_tile(renderer, {1, 1, 2, 2}, {ALBEDO});

@@ -1,5 +1,6 @@
 // GLB export: the scene read back by our own loader must be the scene exported.
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include <gtest/gtest.h>
@@ -95,6 +96,47 @@ TEST(GlbExport, RoundTripsGeometryMaterialsLightsAndCameras) {
     EXPECT_NEAR(camera.fov_y(), 40.0f, 1e-4f);
 }
 
+// Spot and directional lights keep their kind, direction, cones, range and
+// angular diameter through model.glb; the default rig's lights are marked.
+TEST(GlbExport, SpotAndDirectionalLightsRoundTrip) {
+    Scene scene = two_material_scene();
+    scene.lights.clear();
+    Light spot;
+    spot.kind = SPOT;
+    spot.position = {0.0f, 2.0f, 0.0f};
+    spot.direction = glm::normalize(vec3(0.3f, -1.0f, 0.2f));
+    spot.cos_inner = std::cos(0.2f);
+    spot.cos_outer = std::cos(0.6f);
+    spot.range = 7.0f;
+    Light sun;
+    sun.kind = DIRECTIONAL;
+    sun.direction = glm::normalize(vec3(-0.5f, -1.0f, 0.1f));
+    sun.angular_diameter = 0.02f;
+    Light rig = sun;
+    rig.direction = vec3(0.0f, 0.0f, 1.0f);  // opposite glTF's -Z
+    rig.angular_diameter = 0.0f;
+    scene.lights = {spot, sun, rig};
+    scene.rig_lights = 1;
+    const Scene back = round_trip(scene);
+    ASSERT_EQ(back.lights.size(), 3u);
+    for (size_t i = 0; i < 3; ++i) {
+        EXPECT_EQ(back.lights[i].kind, scene.lights[i].kind);
+        EXPECT_NEAR(glm::distance(back.lights[i].direction, scene.lights[i].direction), 0.0f, 1e-5f) << i;
+        EXPECT_NEAR(back.lights[i].angular_diameter, scene.lights[i].angular_diameter, 1e-6f);
+    }
+    EXPECT_NEAR(back.lights[0].cos_inner, spot.cos_inner, 1e-6f);
+    EXPECT_NEAR(back.lights[0].cos_outer, spot.cos_outer, 1e-6f);
+    EXPECT_EQ(back.lights[0].range, 7.0f);
+    const Json doc = glb_json(export_glb(scene));
+    const Json& types = doc["extensions"]["KHR_lights_punctual"]["lights"];
+    EXPECT_EQ(types[0]["type"], "spot");
+    EXPECT_EQ(types[1]["type"], "directional");
+    size_t marked = 0;
+    for (const Json& node : doc["nodes"])
+        marked += node.contains("extras") && node["extras"]["rt"].contains("default_rig");
+    EXPECT_EQ(marked, 1u);
+}
+
 TEST(GlbExport, WritesAValidContainerAndTheRequiredFields) {
     const std::string glb = export_glb(two_material_scene());
     ASSERT_GE(glb.size(), 28u);
@@ -184,7 +226,7 @@ TEST(GlbExport, TexturedSceneRoundTripsItsTexture) {
     EXPECT_EQ(back.texcoords, scene.texcoords);
     ASSERT_EQ(back.materials.size(), 1u);
     EXPECT_EQ(back.materials[0].name, "checker");
-    EXPECT_EQ(back.materials[0].diffuse_texture, 0);
+    EXPECT_EQ(back.materials[0].base_color_texture.index, 0);
 }
 
 TEST(GlbExport, ObjSceneBecomesTheSameGlb) {

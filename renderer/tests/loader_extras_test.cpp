@@ -1,5 +1,7 @@
 // The sidecar `<scene>.rt.json` and glTF `extras.rt` (rt.SceneExtras): merged
 // into the scene, and validated against the schema's limits.
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "loader_test_util.h"
@@ -53,6 +55,35 @@ TEST(LoaderExtras, SchemaDefaultsFillWhatTheSidecarLeavesOut) {
     ASSERT_EQ(scene.lights.size(), 1u);
     expect_vec3(scene.lights[0].intensity, vec3(1.0f));
     EXPECT_EQ(scene.lights[0].radius, 0.0f);
+}
+
+TEST(LoaderExtras, SpotAndDirectionalLightsTakeTheirShape) {
+    TempDir dir;
+    dir.write("s.rt.json", R"({"lights": [
+        {"kind": "SPOT", "position": [0, 3, 0], "direction": [0, -2, 0], "inner_cone_angle": 10,
+         "outer_cone_angle": 30, "range": 8},
+        {"kind": "DIRECTIONAL", "direction": [1, -1, 0], "intensity": 2, "angular_diameter": 0.53}]})");
+    const std::filesystem::path file = dir.write("s.obj", kTriangleObj);
+    const Scene scene = load_scene(file);
+    ASSERT_EQ(scene.lights.size(), 2u);
+    EXPECT_EQ(scene.lights[0].kind, SPOT);
+    expect_vec3(scene.lights[0].direction, {0, -1, 0});
+    EXPECT_FLOAT_EQ(scene.lights[0].cos_inner, std::cos(10.0f * kPi / 180.0f));
+    EXPECT_FLOAT_EQ(scene.lights[0].cos_outer, std::cos(30.0f * kPi / 180.0f));
+    EXPECT_EQ(scene.lights[0].range, 8.0f);
+    EXPECT_EQ(scene.lights[1].kind, DIRECTIONAL);
+    expect_vec3(scene.lights[1].direction, glm::normalize(vec3(1, -1, 0)));
+    EXPECT_FLOAT_EQ(scene.lights[1].angular_diameter, 0.53f * kPi / 180.0f);
+    EXPECT_EQ(scene.rig_lights, 0u);
+    // What each kind needs, by name.
+    dir.write("s.rt.json", R"({"lights": [{"kind": "SPOT"}]})");
+    EXPECT_TRUE(contains(scene_error([&] { load_scene(file); }), "extras.lights[0].position: is required"));
+    dir.write("s.rt.json", R"({"lights": [{"kind": "SPOT", "position": [0, 0, 0], "radius": 1}]})");
+    EXPECT_TRUE(contains(scene_error([&] { load_scene(file); }), "extras.lights[0].radius: only point lights"));
+    dir.write("s.rt.json", R"({"lights": [{"kind": "SPOT", "position": [0, 0, 0], "inner_cone_angle": 50}]})");
+    EXPECT_TRUE(contains(scene_error([&] { load_scene(file); }), "inner_cone_angle: must be below"));
+    dir.write("s.rt.json", R"({"lights": [{"kind": "DIRECTIONAL", "direction": [0, 0, 0]}]})");
+    EXPECT_TRUE(contains(scene_error([&] { load_scene(file); }), "extras.lights[0].direction: is zero"));
 }
 
 TEST(LoaderExtras, GltfExtrasOnTheAssetAndTheSceneAreMerged) {

@@ -210,7 +210,7 @@ TEST(LoaderGltf, BaseColourTextureIsDecodedFromSrgbAndSampledBilinearly) {
     const Scene scene = load_text(textured_doc(10497, 33071).text(), "tex.gltf");
     ASSERT_EQ(scene.textures.size(), 1u);
     const Material& material = scene.materials[scene.triangle_materials[0]];
-    ASSERT_EQ(material.diffuse_texture, 0);
+    ASSERT_EQ(material.base_color_texture.index, 0);
     const Texture& texture = scene.textures[0];
     EXPECT_EQ(texture.wrap_s, Texture::Wrap::Repeat);
     EXPECT_EQ(texture.wrap_t, Texture::Wrap::ClampToEdge);
@@ -252,21 +252,32 @@ TEST(LoaderGltf, PunctualLightsTakeTheirNodesPosition) {
     doc.json["extensionsRequired"] = {"KHR_lights_punctual"};
     doc.json["extensions"]["KHR_lights_punctual"]["lights"] = {
         {{"type", "point"}, {"name", "bulb"}, {"color", {1, 0.5, 0.25}}, {"intensity", 8}},
-        {{"type", "spot"}, {"spot", Json::object()}},
-        {{"type", "directional"}}};
+        {{"type", "spot"}, {"range", 5}, {"spot", {{"innerConeAngle", 0.25}, {"outerConeAngle", 0.5}}}},
+        {{"type", "directional"}, {"intensity", 3}, {"extras", {{"rt", {{"angular_diameter", 2}}}}}}};
     const Json light = {{"KHR_lights_punctual", {{"light", 0}}}};
     doc.json["nodes"].push_back({{"translation", {0, 4, 0}}, {"extensions", light}});
     doc.add_root({{"translation", {1, 2, 3}}, {"children", {int(doc.json["nodes"].size() - 1)}}});
     doc.add_root({{"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
-    doc.add_root({{"extensions", {{"KHR_lights_punctual", {{"light", 2}}}}}});
+    // Turned a quarter about +X: its -Z becomes -Y, straight down.
+    const double h = std::sqrt(0.5);
+    doc.add_root({{"rotation", {-h, 0, 0, h}}, {"extensions", {{"KHR_lights_punctual", {{"light", 2}}}}}});
     const Scene scene = load_text(doc.text(), "l.gltf");
-    ASSERT_EQ(scene.lights.size(), 2u);  // the directional one is skipped
+    ASSERT_EQ(scene.lights.size(), 3u);
     EXPECT_EQ(scene.lights[0].name, "bulb");
     expect_vec3(scene.lights[0].position, {1, 6, 3});
     expect_vec3(scene.lights[0].intensity, {8, 4, 2});
     EXPECT_EQ(scene.lights[0].radius, 0.0f);
-    EXPECT_TRUE(has_warning(scene, "spot light"));
-    EXPECT_TRUE(has_warning(scene, "directional"));
+    EXPECT_TRUE(scene.lights[0].plain_point());
+    EXPECT_EQ(scene.lights[1].kind, SPOT);
+    expect_vec3(scene.lights[1].direction, {0, 0, -1});
+    EXPECT_FLOAT_EQ(scene.lights[1].cos_inner, std::cos(0.25f));
+    EXPECT_FLOAT_EQ(scene.lights[1].cos_outer, std::cos(0.5f));
+    EXPECT_EQ(scene.lights[1].range, 5.0f);
+    EXPECT_EQ(scene.lights[2].kind, DIRECTIONAL);
+    expect_vec3(scene.lights[2].direction, {0, -1, 0});
+    EXPECT_NEAR(scene.lights[2].angular_diameter, 2.0f * kPi / 180.0f, 1e-6f);
+    EXPECT_EQ(scene.rig_lights, 0u);
+    EXPECT_TRUE(scene.warnings.empty());
 }
 
 TEST(LoaderGltf, PerspectiveCamerasLookDownTheirNodesMinusZ) {

@@ -128,8 +128,8 @@ TEST(LoaderObj, MapKdIsReadThroughTheFolderAndDecodedFromSrgb) {
                                                      "usemtl wood\nf 1/1 2/2 3/1\nusemtl same\nf 1/1 2/2 3/1\n"));
     ASSERT_EQ(scene.textures.size(), 1u);  // both materials share the decoded image
     const Material& wood = material_named(scene, "wood");
-    ASSERT_EQ(wood.diffuse_texture, 0);
-    EXPECT_EQ(material_named(scene, "same").diffuse_texture, 0);
+    ASSERT_EQ(wood.base_color_texture.index, 0);
+    EXPECT_EQ(material_named(scene, "same").base_color_texture.index, 0);
     const Texture& texture = scene.textures[0];
     EXPECT_EQ(texture.wrap_s, Texture::Wrap::ClampToEdge);
     expect_vec3(texture.sample({0.25f, 0.5f}), vec3(srgb_to_linear(128.0f / 255.0f)));

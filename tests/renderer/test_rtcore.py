@@ -10,7 +10,7 @@ import pytest
 from PIL import Image
 
 import rtcore
-from rt import debug_pb2, job_pb2, render_pb2
+from rt import debug_pb2, job_pb2, render_pb2, scene_pb2
 
 
 @pytest.fixture(scope="module")
@@ -39,7 +39,7 @@ def test_load_reports_the_scene(cornell):
     camera = info.cameras[0].camera
     assert len(camera.position) == 3 and len(camera.target) == 3
     assert info.default_camera.SerializeToString() == cornell.default_camera
-    assert len(info.lights) == 1
+    assert len(info.lights) == 1 and not info.light_rig
     stats = cornell.bvh_stats
     assert stats["triangles"] == cornell.triangle_count and stats["nodes"] >= 1
 
@@ -527,3 +527,17 @@ def test_complete_names_the_field_as_api_users_write_it(cornell, body, message):
 def test_complete_takes_only_render_requests(cornell):
     with pytest.raises(ValueError, match="rt.SceneInfo is not a render request"):
         cornell.complete("rt.SceneInfo", "{}")
+
+
+def test_a_scene_without_lights_is_lit_by_the_default_rig_unless_turned_off(tmp_path):
+    (tmp_path / "tri.obj").write_text("v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n")
+    scene = rtcore.Scene.load(str(tmp_path / "tri.obj"))
+    info = scene_info(scene)
+    assert info.light_rig
+    assert [light.kind for light in info.lights] == [scene_pb2.DIRECTIONAL] * 2
+    assert all(len(light.direction) == 3 for light in info.lights)
+    assert any("default light rig" in w and "NO_RIG" in w for w in info.warnings)
+    lit = scene.render_tile(scene.default_camera, settings(16, 16), 0, 0, 16, 16)
+    dark = scene.render_tile(scene.default_camera, settings(16, 16, light_rig=render_pb2.NO_RIG), 0, 0, 16, 16)
+    assert lit[8, 8, :3].max() > 0 and lit[0, 0, :3].min() > 0, "the triangle lit, the sky behind it"
+    assert dark[..., :3].max() == 0, "no rig: black, the background black too"

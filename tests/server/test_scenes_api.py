@@ -127,3 +127,13 @@ def make_zip(files: dict[str, bytes]) -> bytes:
         for name, data in files.items():
             z.writestr(name, data)
     return out.getvalue()
+
+
+def test_a_scene_without_lights_reports_the_default_rig(client):
+    obj = b"v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n"
+    response = client.post("/api/scenes", files={"file": ("unlit.obj", obj)})
+    assert response.status_code == 201, response.text
+    info = response.json()
+    assert info["light_rig"] is True
+    assert [light["kind"] for light in info["lights"]] == ["DIRECTIONAL", "DIRECTIONAL"]
+    assert any("default light rig" in w for w in info["warnings"])

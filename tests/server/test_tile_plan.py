@@ -3,7 +3,7 @@ and tile sizes that follow the work per pixel."""
 
 import pytest
 
-from rt import job_pb2, render_pb2
+from rt import job_pb2, render_pb2, scene_pb2
 
 from app.services.tile_plan import (MAX_TILES, PREVIEW_MIN_PIXELS, PREVIEW_SCALE, TILE_RAYS, TILE_SIZES,
                                      TILES_PER_THREAD, plan_passes, rays_per_pixel)
@@ -81,6 +81,9 @@ def test_rays_per_pixel_counts_camera_samples_frames_and_shadow_rays():
     assert rays_per_pixel(settings, []) == 4
     assert rays_per_pixel(settings, [point]) == 4 * 2
     assert rays_per_pixel(settings, [point, sphere]) == 4 * (1 + 1 + 16)
+    sun = job_pb2.SceneInfo().lights.add(kind=scene_pb2.DIRECTIONAL, direction=[0, -1, 0])
+    soft_sun = job_pb2.SceneInfo().lights.add(kind=scene_pb2.DIRECTIONAL, direction=[0, -1, 0], angular_diameter=0.5)
+    assert rays_per_pixel(settings, [sun, soft_sun]) == 4 * (1 + 1 + 16)
     settings.motion_blur = render_pb2.FRAMES
     settings.motion_frames = 8
     assert rays_per_pixel(settings, [sphere]) == 4 * 8 * 17

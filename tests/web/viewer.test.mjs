@@ -83,10 +83,19 @@ describe("rt viewer", { timeout: 170_000 }, () => {
     const meshes = await page.evaluate(() => {
       let n = 0;
       window.rt.viewer.model.traverse((o) => { if (o.isMesh) n++; });
-      return { meshes: n, lights: window.rt.viewer.gizmos.children.filter((o) => o.name === "light gizmo").length };
+      let sceneLights = 0, fromFile = 0;
+      window.rt.viewer.scene.traverse((o) => { if (o.isLight) sceneLights++; });
+      window.rt.viewer.model.traverse((o) => { if (o.isLight && o.visible) fromFile++; });
+      return {
+        meshes: n, lights: window.rt.viewer.gizmos.children.filter((o) => o.name === "light gizmo").length,
+        sceneLights, fromFile,
+      };
     });
     assert.ok(meshes.meshes > 0, "model.glb has meshes");
     assert.equal(meshes.lights, 1, "one light gizmo");
+    // No head light: the view's only light is the file's, shown.
+    assert.equal(meshes.sceneLights, 1, "the 3D view has no lights besides the file's");
+    assert.equal(meshes.fromFile, 1, "model.glb's light lights the view");
     await screenshot(page, "cornell-uploaded");
   });
 

@@ -42,6 +42,7 @@ function viewportStatus(text) {
 viewer.setAspect(settings.aspect);
 settings.addEventListener("aspect", (e) => viewer.setAspect(e.detail));
 settings.addEventListener("fov", (e) => viewer.setFov(e.detail));
+settings.addEventListener("lightRig", (e) => viewer.showLightRig(e.detail));
 viewer.addEventListener("camerachange", () => settings.showFov(viewer.camera.fov));
 viewer.renderer.domElement.addEventListener("pointerdown", () => { cameraSelect.value = ""; });
 viewer.renderer.domElement.addEventListener("wheel", () => { cameraSelect.value = ""; }, { passive: true });

@@ -131,6 +131,12 @@ export class SettingsPanel extends EventTarget {
 
   _changed(name) {
     if (name === "width" || name === "height") this.dispatchEvent(new CustomEvent("aspect", { detail: this.aspect }));
+    if (name === "lightRig") this.dispatchEvent(new CustomEvent("lightRig", { detail: this.rigOn }));
+  }
+
+  /** Whether the default light rig lights a scene without lights (rt.LightRig). */
+  get rigOn() {
+    return enumChoices("LightRig").find((v) => v.name === "NO_RIG")?.number !== Number(this.inputs.get("lightRig")?.value);
   }
 
   get aspect() {
@@ -170,6 +176,7 @@ export class SettingsPanel extends EventTarget {
     for (const [value, box] of this.outputs) box.checked = outputs.includes(value);
     this.interactive.checked = interactive;
     this.dispatchEvent(new CustomEvent("aspect", { detail: this.aspect }));
+    this.dispatchEvent(new CustomEvent("lightRig", { detail: this.rigOn }));
   }
 
   showFov(fov) {

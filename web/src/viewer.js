@@ -52,10 +52,9 @@ export class Viewer extends EventTarget {
     this.scene.background = new THREE.Color(0x15171c);
     this.camera = new THREE.PerspectiveCamera(45, this.aspect, 0.01, 1000);
     this.camera.position.set(0, 1, 4);
-    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x30343c, 1.6));
-    this.headlight = new THREE.DirectionalLight(0xffffff, 1.4);
-    this.camera.add(this.headlight);
-    this.headlight.position.set(0.3, 0.5, 1);
+    // No lights of its own: the view is lit by model.glb's KHR_lights_punctual
+    // lights, the render's (the default rig when the scene has none), without
+    // shadows or reflections.
     this.scene.add(this.camera);
 
     this.model = new THREE.Group();
@@ -195,12 +194,12 @@ export class Viewer extends EventTarget {
     gltf.scene.traverse((object) => {
       const sphere = object.userData?.rt?.sphere;
       if (sphere) spheres.push(sphere);
-      if (object.isLight) object.visible = false; // the view is lit by its own head light
       if (object.isMesh) {
         for (const m of [].concat(object.material)) m.side = THREE.DoubleSide;
       }
     });
     this.model.add(gltf.scene);
+    this.showLightRig(this.rigOn ?? true);
     this.bounds.set(new THREE.Vector3(...info.boundsMin), new THREE.Vector3(...info.boundsMax));
     if (this.bounds.isEmpty()) this.bounds.setFromObject(gltf.scene);
     this._addGizmos(info.lights, spheres);
@@ -208,6 +207,15 @@ export class Viewer extends EventTarget {
     this.lod.prepare();
     this.requestRender();
     return gltf;
+  }
+
+  /** Shows or hides the default rig's lights (model.glb marks them extras.rt.default_rig). */
+  showLightRig(on) {
+    this.rigOn = on;
+    this.model.traverse((o) => {
+      if (o.isLight && o.userData?.rt?.default_rig) o.visible = on;
+    });
+    this.requestRender();
   }
 
   _addGizmos(lights, spheres) {

@@ -183,8 +183,8 @@ void GlbExporter::add_materials() {
         Json pbr = {{"baseColorFactor", {base.r, base.g, base.b, 1.0f}},
                     {"metallicFactor", 0.0f},
                     {"roughnessFactor", roughness_of(m.shininess)}};
-        if (m.diffuse_texture >= 0 && size_t(m.diffuse_texture) < scene_.textures.size())
-            pbr["baseColorTexture"] = {{"index", add_texture(m.diffuse_texture)}};
+        if (m.base_color_texture && size_t(m.base_color_texture.index) < scene_.textures.size())
+            pbr["baseColorTexture"] = {{"index", add_texture(m.base_color_texture.index)}};
         Json material = {{"pbrMetallicRoughness", std::move(pbr)}};
         if (!m.name.empty()) material["name"] = m.name;
         material["extras"]["rt"]["phong"] = {{"diffuse", array3(m.diffuse)},
@@ -277,6 +277,17 @@ void GlbExporter::add_spheres() {
     }
 }
 
+// The shortest turn of -Z onto the unit vector d (half-way vector; about X when opposite).
+glm::quat rotation_from_minus_z(vec3 d) {
+    const vec3 a(0.0f, 0.0f, -1.0f);
+    const float w = 1.0f + glm::dot(a, d);
+    return w < 1e-6f ? glm::quat(0.0f, 1.0f, 0.0f, 0.0f) : glm::normalize(glm::quat(w, glm::cross(a, d)));
+}
+
+const char* light_type(LightKind kind) {
+    return kind == SPOT ? "spot" : kind == DIRECTIONAL ? "directional" : "point";
+}
+
 void GlbExporter::add_lights() {
     if (scene_.lights.empty()) return;
     Json lights = Json::array();
@@ -284,14 +295,26 @@ void GlbExporter::add_lights() {
         const Light& light = scene_.lights[i];
         // KHR_lights_punctual splits colour times candela into a colour and an intensity.
         const float peak = max_component(light.intensity);
-        Json spec = {{"type", "point"},
+        Json spec = {{"type", light_type(light.kind)},
                      {"color", array3(peak > 0.0f ? light.intensity / peak : vec3(1.0f))},
                      {"intensity", std::max(peak, 0.0f)}};
         Json node = {{"translation", array3(light.position)},
                      {"extensions", {{"KHR_lights_punctual", {{"light", i}}}}}};
         if (!light.name.empty()) spec["name"] = node["name"] = light.name;
-        // glTF has no spherical lights; the style guide's advice: extras.
+        if (light.range > 0.0f) spec["range"] = light.range;
+        if (light.kind != POINT) {
+            // The node's -Z is the light's direction.
+            const glm::quat q = rotation_from_minus_z(light.direction);
+            node["rotation"] = {q.x, q.y, q.z, q.w};
+        }
+        if (light.kind == SPOT)
+            spec["spot"] = {{"innerConeAngle", std::acos(light.cos_inner)},
+                            {"outerConeAngle", std::acos(light.cos_outer)}};
+        // glTF has no spherical lights or suns of a size; the style guide's advice: extras.
         if (light.radius > 0.0f) node["extras"] = {{"rt", {{"radius", light.radius}}}};
+        if (light.angular_diameter > 0.0f)
+            spec["extras"] = {{"rt", {{"angular_diameter", light.angular_diameter * 180.0f / kPi}}}};
+        if (i >= scene_.lights.size() - scene_.rig_lights) node["extras"] = {{"rt", {{"default_rig", true}}}};
         lights.push_back(std::move(spec));
         add_node(std::move(node));
     }

@@ -1,26 +1,19 @@
-// Phong materials and their textures. How glTF's metallic/roughness and OBJ's
-// MTL map onto these fields is written down in docs/materials.md.
+// Phong materials, and the glTF inputs that vary them per texel. How glTF's
+// metallic/roughness and OBJ's MTL map onto these fields is written down in
+// docs/materials.md.
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "geometry/texture.h"
 #include "util/math.h"
 
 namespace rt {
 
-// An image in linear RGB, sampled bilinearly.
-struct Texture {
-    enum class Wrap { Repeat, ClampToEdge, MirroredRepeat };
-
-    int width = 0;
-    int height = 0;
-    std::vector<vec3> texels;  // row-major, row 0 at v = 0 (top of the image)
-    Wrap wrap_s = Wrap::Repeat;
-    Wrap wrap_t = Wrap::Repeat;
-
-    vec3 sample(vec2 uv) const;
-};
+// glTF's alphaMode. OPAQUE ignores alpha; MASK makes texels below the cutoff
+// holes for every ray; BLEND lets (1 - alpha) of the light through, unbent.
+enum class AlphaMode : uint8_t { Opaque, Mask, Blend };
 
 struct Material {
     std::string name;
@@ -33,7 +26,45 @@ struct Material {
     // a refracted ray; the Phong terms keep 1 - transmission.
     vec3 transmission{0.0f};
     float ior = 1.5f;         // index of refraction inside, relative to outside
-    int diffuse_texture = -1; // index into Scene::textures; multiplies `diffuse`
+
+    // glTF's metallic-roughness inputs, kept where a texture varies them per
+    // texel: the Phong terms above are then derived at each hit, through the
+    // same mapping (phong_from_metallic_roughness). For OBJ, and for glTF
+    // materials without such textures, `diffuse`.. `reflectance` are all there is.
+    bool metallic_roughness = false;
+    vec3 base_color{0.8f};
+    float metallic = 0.0f;
+    float roughness = 1.0f;
+
+    // Multiplies the base colour (glTF) or `diffuse` (OBJ), and with its alpha
+    // the material's `alpha`.
+    TextureRef base_color_texture;
+    TextureRef metallic_roughness_texture;  // B scales metallic, G roughness
+    TextureRef normal_texture;              // tangent-space, scaled by normal_scale
+    float normal_scale = 1.0f;
+    TextureRef occlusion_texture;           // R; darkens the default rig's fill only
+    float occlusion_strength = 1.0f;
+    vec3 emission{0.0f};                    // linear radiance, emissiveFactor times strength
+    TextureRef emissive_texture;            // multiplies `emission`
+
+    AlphaMode alpha_mode = AlphaMode::Opaque;
+    float alpha = 1.0f;                     // base colour alpha
+    float alpha_cutoff = 0.5f;              // MASK: texels below it are holes
+    bool double_sided = false;
+
+    bool textured() const {
+        return bool(base_color_texture) || bool(metallic_roughness_texture) || bool(normal_texture) ||
+               bool(occlusion_texture) || bool(emissive_texture);
+    }
 };
+
+// The Phong terms of a glTF metallic-roughness surface (docs/materials.md).
+struct PhongTerms {
+    vec3 diffuse;
+    vec3 specular;
+    float shininess;
+    vec3 reflectance;
+};
+PhongTerms phong_from_metallic_roughness(vec3 base_color, float metallic, float roughness);
 
 }  // namespace rt

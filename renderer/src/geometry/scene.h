@@ -15,18 +15,31 @@
 #include "geometry/material.h"
 #include "util/math.h"
 #include "rt/render.pb.h"
+#include "rt/scene.pb.h"
 #include "geometry/sphere.h"
 
 namespace rt {
 
-// A point light (radius 0) or a spherical light. `intensity` is colour times
-// candela: irradiance at distance d is intensity / d^2, which a spherical light
-// keeps by emitting the radiance intensity / (pi r^2) (sphere_light.h).
+// A point light (radius 0), a spherical light, a spot light or a directional
+// one (`kind`, the schema's LightKind). `intensity` is colour times candela:
+// irradiance at distance d is intensity / d^2, which a spherical light keeps by
+// emitting the radiance intensity / (pi r^2) (sphere_light.h); for a
+// directional light it is colour times lux, the irradiance it gives a surface
+// facing it.
 struct Light {
     std::string name;
     vec3 position{0.0f};
     vec3 intensity{1.0f};
     float radius = 0.0f;
+    LightKind kind = POINT;
+    vec3 direction{0.0f, 0.0f, -1.0f};  // spot, directional: unit, the way the light travels
+    float cos_inner = 1.0f;             // spot: cosines of the cone angles
+    float cos_outer = 0.0f;
+    float range = 0.0f;                 // point, spot: 0 for no limit
+    float angular_diameter = 0.0f;      // directional: radians, 0 for hard shadows
+
+    // A point light as the 2020 report had them: no cone, no range, no radius.
+    bool plain_point() const { return kind == POINT && radius == 0.0f && range == 0.0f; }
 };
 
 struct SceneCamera {
@@ -60,6 +73,11 @@ struct Scene {
     std::vector<Light> lights;
     std::vector<SceneCamera> cameras;
     vec3 background{0.0f};
+    // With no lights of its own, the loader gives the scene a default rig
+    // (load/light_rig.h): the last `rig_lights` lights, and `rig_background`
+    // for rays that miss, both used unless the settings' light_rig is NO_RIG.
+    size_t rig_lights = 0;
+    vec3 rig_background{0.0f};
 
     // What the loader noticed and repaired or skipped, for the user.
     std::vector<std::string> warnings;

@@ -9,14 +9,15 @@
 #include "integrator/dielectric.h"
 #include "integrator/sampling.h"
 #include "geometry/spawn.h"
+#include "integrator/punctual_light.h"
+#include "integrator/ray_recorders.h"
 #include "integrator/sphere_light.h"
 
 namespace rt {
-namespace {
 
-void count(RayCounts& counts, RayKind kind) {
-    (kind == PRIMARY ? counts.camera : kind == REFRACTION ? counts.refraction : counts.reflection) += 1;
-}
+using namespace recorders;
+
+namespace {
 
 // The mirror direction about the shading normal; a bent shading normal can
 // mirror below the surface, and then the true surface decides.
@@ -24,128 +25,6 @@ vec3 mirror_direction(vec3 direction, const SurfaceHit& s) {
     const vec3 mirrored = glm::reflect(direction, s.ns);
     return glm::dot(mirrored, s.ng) > 0.0f ? mirrored : glm::reflect(direction, s.ng);
 }
-
-// The hot path: counts rays, records nothing.
-struct CountingRecorder {
-    RayCounts& counts;
-
-    int closest(const Accelerator& accel, const Ray& ray, RayKind kind, uint32_t, int, vec3, Hit& hit) {
-        count(counts, kind);
-        accel.intersect(ray, hit);
-        return -1;
-    }
-    int shadow(const Accelerator& accel, const Ray& ray, uint32_t, int, uint32_t, bool& occluded) {
-        ++counts.shadow;
-        occluded = accel.occluded(ray);
-        return -1;
-    }
-    void surface(int, const SurfaceHit&, const Hit&, const Material&, vec3) {}
-    void light(int, const Ray&, float, const Light&, vec3) {}
-    void contribution(int, vec3) {}
-};
-
-// The hot path's counts plus the auxiliary outputs: every ray's traversal
-// cost, and the primary hit's surface. Like the debugger's, its segment 0 is
-// the primary ray.
-struct AuxRecorder {
-    RayCounts& counts;
-    AuxSample& aux;
-
-    int closest(const Accelerator& accel, const Ray& ray, RayKind kind, uint32_t, int, vec3, Hit& hit) {
-        count(counts, kind);
-        accel.intersect(ray, hit, aux.cost);
-        if (kind != PRIMARY) return -1;
-        // Camera rays have unit directions: t is the distance.
-        if (hit.found()) aux.depth = hit.t;
-        return 0;
-    }
-    int shadow(const Accelerator& accel, const Ray& ray, uint32_t, int, uint32_t, bool& occluded) {
-        ++counts.shadow;
-        occluded = accel.occluded(ray, aux.cost);
-        return -1;
-    }
-    void surface(int segment, const SurfaceHit& s, const Hit&, const Material&, vec3 diffuse) {
-        if (segment != 0) return;
-        aux.normal = s.ns;
-        aux.albedo = diffuse;
-    }
-    // A light has no albedo; its normal faces the camera, which is outside it.
-    void light(int segment, const Ray& ray, float t, const Light& light, vec3) {
-        if (segment != 0) return;
-        aux.depth = t;
-        aux.normal = glm::normalize(ray.at(t) - light.position);
-    }
-    void contribution(int, vec3) {}
-};
-
-void set_vec3(google::protobuf::RepeatedField<float>* field, vec3 v) {
-    field->Clear();
-    field->Add(v.x);
-    field->Add(v.y);
-    field->Add(v.z);
-}
-
-// The debugger's view: every ray as a segment, with the BVH nodes it visited.
-struct DebugRecorder {
-    DebugPath& path;
-    float miss_length;
-
-    RaySegment& add(const Ray& ray, RayKind kind, uint32_t depth, int parent, const TraversalRecord& record) {
-        RaySegment& segment = *path.add_segments();
-        set_vec3(segment.mutable_origin(), ray.origin);
-        segment.set_kind(kind);
-        segment.set_depth(depth);
-        segment.set_parent(parent);
-        segment.mutable_visited_nodes()->Add(record.visited_nodes.begin(), record.visited_nodes.end());
-        segment.set_triangles_tested(record.triangles_tested);
-        return segment;
-    }
-
-    int closest(const Accelerator& accel, const Ray& ray, RayKind kind, uint32_t depth, int parent,
-                vec3 weight, Hit& hit) {
-        TraversalRecord record;
-        const bool found = accel.intersect(ray, hit, record);
-        RaySegment& segment = add(ray, kind, depth, parent, record);
-        segment.set_outcome(found ? HIT : MISS);
-        const float t = found ? hit.t : miss_length;
-        segment.set_t(t);
-        set_vec3(segment.mutable_end(), ray.at(t));
-        set_vec3(segment.mutable_weight(), weight);
-        return path.segments_size() - 1;
-    }
-    int shadow(const Accelerator& accel, const Ray& ray, uint32_t depth, int parent, uint32_t light,
-               bool& occluded) {
-        TraversalRecord record;
-        occluded = accel.occluded(ray, record);
-        RaySegment& segment = add(ray, SHADOW, depth, parent, record);
-        segment.set_outcome(occluded ? OCCLUDED : REACHED_LIGHT);
-        segment.set_light(light);
-        segment.set_t(ray.t_max);
-        set_vec3(segment.mutable_end(), ray.at(ray.t_max));
-        return path.segments_size() - 1;
-    }
-    void surface(int index, const SurfaceHit& s, const Hit& hit, const Material& m, vec3) {
-        RaySegment& segment = *path.mutable_segments(index);
-        set_vec3(segment.mutable_end(), s.p);
-        set_vec3(segment.mutable_normal(), s.ns);
-        segment.set_material(int32_t(s.material));
-        segment.set_material_name(m.name);
-        segment.set_primitive(hit.primitive);
-    }
-    // No material: the segment names the light it ended on.
-    void light(int index, const Ray& ray, float t, const Light& light, vec3 radiance) {
-        RaySegment& segment = *path.mutable_segments(index);
-        segment.set_outcome(REACHED_LIGHT);
-        segment.set_t(t);
-        const vec3 end = ray.at(t);
-        set_vec3(segment.mutable_end(), end);
-        set_vec3(segment.mutable_normal(), glm::normalize(end - light.position));
-        segment.set_material(-1);
-        segment.set_material_name(light.name);
-        set_vec3(segment.mutable_contribution(), radiance);
-    }
-    void contribution(int index, vec3 c) { set_vec3(path.mutable_segments(index)->mutable_contribution(), c); }
-};
 
 }  // namespace
 
@@ -166,7 +45,10 @@ WhittedIntegrator::WhittedIntegrator(const Accelerator& accel, const RenderSetti
       min_contribution_(settings.min_contribution()),
       light_samples_(settings.light_samples()),
       light_sampling_(settings.light_sampling()) {
-    for (size_t i = 0; i < scene_.lights.size(); ++i)
+    // The default rig is the scene's last lights: without it, fewer lights.
+    light_count_ = scene_.lights.size() - (settings.light_rig() == NO_RIG ? scene_.rig_lights : 0);
+    background_ = scene_.rig_lights > 0 && settings.light_rig() != NO_RIG ? scene_.rig_background : scene_.background;
+    for (size_t i = 0; i < light_count_; ++i)
         if (scene_.lights[i].radius > 0.0f) sphere_lights_.push_back(uint32_t(i));
     const bool splits = std::any_of(scene_.materials.begin(), scene_.materials.end(),
                                     [](const Material& m) { return m.transmission != vec3(0.0f); });
@@ -244,7 +126,7 @@ vec3 WhittedIntegrator::trace(const Ray& ray, RayKind kind, uint32_t depth, vec3
             return emitted;
         }
     }
-    if (!hit.found()) return scene_.background;
+    if (!hit.found()) return background_;
 
     SurfaceHit s = surface_at(scene_, ray, hit);
     // Inside or outside is the authored normals' side (as face_viewer orients
@@ -255,7 +137,7 @@ vec3 WhittedIntegrator::trace(const Ray& ray, RayKind kind, uint32_t depth, vec3
     face_viewer(s, wo);
     const Material& m = scene_.materials[s.material];
     vec3 diffuse = m.diffuse;
-    if (m.diffuse_texture >= 0) diffuse *= scene_.textures[size_t(m.diffuse_texture)].sample(s.uv);
+    if (m.base_color_texture) diffuse *= scene_.textures[size_t(m.base_color_texture.index)].sample(s.uv);
     recorder.surface(segment, s, hit, m, diffuse);
 
     // Light that passes the dielectric interface never reaches the Phong
@@ -322,8 +204,12 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Materia
     // Shadow rays stay opaque: a transmissive occluder blocks the light, as in
     // Whitted's model (caustics through glass are beyond it).
     vec3 color(0.0f);
-    for (size_t light_index = 0; light_index < scene_.lights.size(); ++light_index) {
+    for (size_t light_index = 0; light_index < light_count_; ++light_index) {
         const Light& light = scene_.lights[light_index];
+        if (light.kind == DIRECTIONAL) {
+            color += sun_light(s, wo, m, diffuse, opacity, uint32_t(light_index), depth, parent, sampler, recorder);
+            continue;
+        }
         const vec3 to_light = light.position - s.p;
         const float distance_squared = glm::dot(to_light, to_light);
         const float radius_squared = light.radius * light.radius;
@@ -333,6 +219,9 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Materia
             const vec3 wi = to_light / std::sqrt(distance_squared);
             const float cos_theta = glm::dot(s.ns, wi);
             if (cos_theta <= 0.0f || glm::dot(s.ng, wi) <= 0.0f) continue;
+            // A spot's cone and a range window; exactly 1 (the same image) for a plain point light.
+            const float attenuation = light.plain_point() ? 1.0f : punctual_attenuation(light, wi, distance_squared);
+            if (!(attenuation > 0.0f)) continue;
             bool occluded = false;
             const int shadow = recorder.shadow(accel_, spawn_ray_to(s.p, s.p_error, s.ng, light.position, s.time),
                                                depth, parent, uint32_t(light_index), occluded);
@@ -340,7 +229,7 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Materia
             // Intensity first: cos / d^2 alone overflows for lights closer than
             // 1e-19, where the irradiance of a light scaled with its scene does not.
             const vec3 c = phong_brdf(diffuse, m.specular, m.shininess, s.ns, wo, wi) *
-                           (light.intensity * cos_theta / distance_squared) * opacity;
+                           (light.intensity * (attenuation * cos_theta) / distance_squared) * opacity;
             recorder.contribution(shadow, c);
             color += c;
             continue;
@@ -367,6 +256,34 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Materia
         color += sum;
     }
     return color;
+}
+
+// A directional light: one shadow ray to infinity against its direction, or
+// with an angular diameter light_samples of them spread over its cone, drawn
+// from the light's own sample dimension like a spherical light's.
+template <class Recorder>
+vec3 WhittedIntegrator::sun_light(const SurfaceHit& s, vec3 wo, const Material& m, vec3 diffuse, vec3 opacity,
+                                  uint32_t light_index, uint32_t depth, int parent, const PixelSampler& sampler,
+                                  Recorder& recorder) const {
+    const Light& light = scene_.lights[light_index];
+    const bool soft = light.angular_diameter > 0.0f;
+    const uint32_t count = soft ? light_samples_ : 1;
+    const SunSampler sun(light);
+    vec3 sum(0.0f);
+    for (uint32_t i = 0; i < count; ++i) {
+        const vec3 wi = soft ? sun.sample(sampler.get_2d(light_index, i, count)) : -light.direction;
+        const float cos_theta = glm::dot(s.ns, wi);
+        if (cos_theta <= 0.0f || glm::dot(s.ng, wi) <= 0.0f) continue;
+        bool occluded = false;
+        const int shadow =
+            recorder.shadow(accel_, spawn_ray(s.p, s.p_error, s.ng, wi, s.time), depth, parent, light_index, occluded);
+        if (occluded) continue;
+        const vec3 c = phong_brdf(diffuse, m.specular, m.shininess, s.ns, wo, wi) * light.intensity *
+                       (cos_theta / float(count)) * opacity;
+        recorder.contribution(shadow, c);
+        sum += c;
+    }
+    return sum;
 }
 
 }  // namespace rt

@@ -1,7 +1,9 @@
 // The Whitted integrator of the 2020 report: Phong shading from every light
 // with shadow rays (sections 2, 4, 5), plus recursive mirror reflection (section
 // 3) and refraction through smooth dielectrics (docs/materials.md), both cut off
-// when the path weight can no longer change the pixel. Spherical lights are
+// when the path weight can no longer change the pixel. Point, spot and
+// directional lights (punctual_light.h) take one shadow ray each; spherical
+// lights and suns of some angular diameter light_samples. Spherical lights are
 // also seen: a camera, reflection or refraction ray that meets one returns its
 // radiance.
 #pragma once
@@ -84,6 +86,9 @@ class WhittedIntegrator {
     template <class Recorder>
     vec3 direct_light(const SurfaceHit& s, vec3 wo, const Material& m, vec3 diffuse, vec3 opacity, uint32_t depth,
                       int parent, const PixelSampler& sampler, Recorder& recorder) const;
+    template <class Recorder>
+    vec3 sun_light(const SurfaceHit& s, vec3 wo, const Material& m, vec3 diffuse, vec3 opacity, uint32_t light_index,
+                   uint32_t depth, int parent, const PixelSampler& sampler, Recorder& recorder) const;
     // The nearest spherical light `ray` meets before ray.t_max, or -1; its distance in `t`.
     int nearest_light(const Ray& ray, float& t) const;
 
@@ -93,6 +98,8 @@ class WhittedIntegrator {
     float min_contribution_;
     uint32_t light_samples_;
     LightSampling light_sampling_;
+    size_t light_count_;                   // the lights that shine: all, or all but the default rig
+    vec3 background_;                      // what rays that miss see
     std::vector<uint32_t> sphere_lights_;  // indices of the lights with a radius
 };
 

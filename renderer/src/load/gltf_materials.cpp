@@ -69,22 +69,21 @@ uint32_t GltfMaterials::material(int index, const std::string& what) {
 
     // The mapping and its reasons: docs/materials.md.
     const vec3 base(glm::clamp(glm::make_vec3(pbr.baseColorFactor.data()), 0.0, 1.0));
-    const float metallic = float(glm::clamp(pbr.metallicFactor, 0.0, 1.0));
-    const float roughness = float(glm::clamp(pbr.roughnessFactor, 0.0, 1.0));
-    const float alpha = roughness * roughness;
     Material out;
     out.name = source.name.empty() ? name : source.name;
-    out.diffuse = base * (1.0f - metallic);
-    out.specular = glm::mix(vec3(0.04f), base, metallic);
-    // Below alpha = 0.0141 the exponent exceeds the clamp's top anyway; testing
-    // first keeps 2 / alpha^2 from dividing by zero.
-    out.shininess = alpha > 0.01f ? glm::clamp(2.0f / (alpha * alpha) - 2.0f, 1.0f, 10000.0f) : 10000.0f;
-    out.reflectance = out.specular * (1.0f - roughness) * (1.0f - roughness);
+    out.base_color = base;
+    out.metallic = float(glm::clamp(pbr.metallicFactor, 0.0, 1.0));
+    out.roughness = float(glm::clamp(pbr.roughnessFactor, 0.0, 1.0));
+    const PhongTerms terms = phong_from_metallic_roughness(out.base_color, out.metallic, out.roughness);
+    out.diffuse = terms.diffuse;
+    out.specular = terms.specular;
+    out.shininess = terms.shininess;
+    out.reflectance = terms.reflectance;
     std::string label = name_ + ": " + name;
     if (!source.name.empty()) label.append(" ").append(in_quotes(source.name));
     read_dielectric(source, label, scene_, out);
     if (pbr.baseColorTexture.index >= 0)
-        out.diffuse_texture = texture(pbr.baseColorTexture, name + ".pbrMetallicRoughness.baseColorTexture");
+        out.base_color_texture.index = texture(pbr.baseColorTexture, name + ".pbrMetallicRoughness.baseColorTexture");
     if (pbr.metallicRoughnessTexture.index >= 0)
         scene_.warnings.push_back(name_ + ": " + name +
                                   ".pbrMetallicRoughness.metallicRoughnessTexture is ignored: the factors "

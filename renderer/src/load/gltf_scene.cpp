@@ -11,6 +11,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "load/gltf_accessor.h"
+#include "load/gltf_lights.h"
 #include "load/gltf_loader.h"
 #include "load/gltf_poses.h"
 #include "load/loader.h"
@@ -348,24 +349,14 @@ void GltfSceneBuilder::add_light(const tinygltf::Node& node, const std::string& 
         fail(field + " refers to light " + std::to_string(index) + ", which does not exist");
     const tinygltf::Light& light = model_.lights[size_t(index)];
     const std::string name = "KHR_lights_punctual.lights[" + std::to_string(index) + "]";
-    if (light.type == "directional") {
-        warn(name + " is a directional light, which is not supported: skipped");
-        return;
+    Light out;
+    try {
+        out = read_gltf_light(light, name, world);
+    } catch (const std::invalid_argument& e) {
+        fail(what + ": " + e.what());
     }
-    if (light.type == "spot")
-        warn(name + " is a spot light: rendered as a point light, without its cone");
-    else if (light.type != "point")
-        fail(name + " has unknown type " + in_quotes(light.type));
-    if (!light.color.empty() && light.color.size() != 3)
-        fail(name + ".color has " + std::to_string(light.color.size()) + " values, expected 3");
-    const dvec3 color = light.color.empty() ? dvec3(1.0) : glm::make_vec3(light.color.data());
-    const dvec3 intensity = color * light.intensity;
-    if (!fits_float(intensity) || glm::any(glm::lessThan(color, dvec3(0.0))) || light.intensity < 0.0)
-        fail(name + " has a colour or intensity that is negative or not finite");
-    const dvec3 position(world[3]);
-    if (!fits_float(position)) fail(what + ": the position of " + name + " is not finite");
-    const std::string& label = !light.name.empty() ? light.name : !node.name.empty() ? node.name : name;
-    loaded_.scene.lights.push_back({label, vec3(position), vec3(intensity), 0.0f});
+    out.name = !light.name.empty() ? light.name : !node.name.empty() ? node.name : name;
+    loaded_.scene.lights.push_back(std::move(out));
 }
 
 }  // namespace

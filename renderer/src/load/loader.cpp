@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "load/format_loaders.h"
+#include "load/light_rig.h"
 #include "load/scene_extras.h"
 #include "load/scene_files.h"
 #include "geometry/triangle.h"
@@ -167,9 +168,12 @@ void finalise(LoadedScene& loaded, const std::string& name) {
         scene.materials.push_back(neutral);
         std::replace(unassigned, scene.triangle_materials.end(), kNoMaterial, index);
     }
-    if (scene.lights.empty())
-        scene.warnings.push_back(name + ": scene has no lights: surfaces get no direct light, only reflections "
-                                        "of the background");
+    if (scene.lights.empty()) {
+        add_light_rig(scene);
+        scene.warnings.push_back(name + ": scene has no lights: lit by the default light rig (a key and a fill "
+                                        "directional light from the camera's side, a pale sky); the setting "
+                                        "light_rig NO_RIG turns it off");
+    }
 }
 
 Scene load(Format format, std::span<const unsigned char> data, const SceneFolder& folder,

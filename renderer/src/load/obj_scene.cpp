@@ -107,7 +107,7 @@ Material ObjSceneBuilder::convert(const tinyobj::material_t& source) {
     if (source.illum == 3 || source.illum == 5 || source.illum == 7)
         out.reflectance = glm::min(out.specular, vec3(1.0f));
     if (!source.diffuse_texname.empty())
-        out.diffuse_texture = texture(source.diffuse_texname, source.diffuse_texopt.clamp, what + " map_Kd");
+        out.base_color_texture.index = texture(source.diffuse_texname, source.diffuse_texopt.clamp, what + " map_Kd");
     return out;
 }
 

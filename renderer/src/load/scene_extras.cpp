@@ -32,6 +32,36 @@ SceneAdditions::Motion read_motion(const NodeMotion& motion, const std::string& 
     return out;
 }
 
+float radians(float degrees) { return degrees * (kPi / 180.0f); }
+
+// Point and spot lights need a position, spot and directional ones a
+// direction (or glTF's -Z); only point lights have a radius.
+Light read_light(const LightSpec& spec, const std::string& name) {
+    Light light;
+    light.name = name;
+    light.kind = spec.kind();
+    light.intensity = vector_or(spec.color(), vec3(1.0f)) * spec.intensity();
+    if (!is_finite(light.intensity)) throw std::invalid_argument(name + ": color times intensity is not finite");
+    if (spec.kind() != DIRECTIONAL && spec.position_size() != 3)
+        throw std::invalid_argument(name + ".position: is required for a point or spot light");
+    light.position = vector_or(spec.position(), vec3(0.0f));
+    if (spec.radius() > 0.0f && spec.kind() != POINT)
+        throw std::invalid_argument(name + ".radius: only point lights have one");
+    const std::optional<vec3> direction = try_normalize(vector_or(spec.direction(), vec3(0.0f, 0.0f, -1.0f)));
+    if (!direction) throw std::invalid_argument(name + ".direction: is zero or not finite");
+    light.direction = *direction;
+    light.radius = spec.radius();
+    light.range = spec.kind() == DIRECTIONAL ? 0.0f : spec.range();
+    if (spec.kind() == SPOT) {
+        if (!(spec.inner_cone_angle() < spec.outer_cone_angle()))
+            throw std::invalid_argument(name + ".inner_cone_angle: must be below outer_cone_angle");
+        light.cos_inner = std::cos(radians(spec.inner_cone_angle()));
+        light.cos_outer = std::cos(radians(spec.outer_cone_angle()));
+    }
+    if (spec.kind() == DIRECTIONAL) light.angular_diameter = radians(spec.angular_diameter());
+    return light;
+}
+
 }  // namespace
 
 SceneAdditions read_scene_extras(std::string_view json, const std::string& source) {
@@ -62,13 +92,8 @@ SceneAdditions read_scene_extras(std::string_view json, const std::string& sourc
         additions.spheres.push_back(
             {vector_or(sphere.center(), vec3(0.0f)), sphere.radius(), std::move(material)});
     }
-    for (int i = 0; i < extras.lights_size(); ++i) {
-        const auto& light = extras.lights(i);
-        const std::string name = source + ".lights[" + std::to_string(i) + "]";
-        const vec3 intensity = vector_or(light.color(), vec3(1.0f)) * light.intensity();
-        if (!is_finite(intensity)) throw std::invalid_argument(name + ": color times intensity is not finite");
-        additions.lights.push_back({name, vector_or(light.position(), vec3(0.0f)), intensity, light.radius()});
-    }
+    for (int i = 0; i < extras.lights_size(); ++i)
+        additions.lights.push_back(read_light(extras.lights(i), source + ".lights[" + std::to_string(i) + "]"));
     if (extras.background_size() == 3) additions.background = vector_or(extras.background(), vec3(0.0f));
     for (int i = 0; i < extras.cameras_size(); ++i) {
         const auto& camera = extras.cameras(i);

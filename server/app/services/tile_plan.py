@@ -78,12 +78,14 @@ def _blocks(extent: int, scale: int) -> int:
 def rays_per_pixel(settings: render_pb2.RenderSettings, lights: Iterable[scene_pb2.LightSpec]) -> float:
     """The rays a pixel is expected to cost before any reflection: per camera
     sample (of every frame averaged), the primary ray and the shadow rays, one
-    per point light and light_samples per spherical light. An upper bound
+    per point, spot or hard directional light and light_samples per spherical
+    light or directional light of some angular diameter. An upper bound
     where adaptive sampling stops early; reflections add to it."""
     samples = settings.samples_per_pixel
     if settings.motion_blur == render_pb2.FRAMES:
         samples *= settings.motion_frames
-    return samples * (1 + sum(settings.light_samples if light.radius > 0 else 1 for light in lights))
+    return samples * (1 + sum(settings.light_samples if light.radius > 0 or light.angular_diameter > 0 else 1
+                              for light in lights))
 
 
 def full_tile_size(width: int, height: int, threads: int, pixel_rays: float = 1.0) -> int:

@@ -1,0 +1,147 @@
+// The three ways WhittedIntegrator::trace records the rays it traces: the hot
+// path that only counts them, the auxiliary outputs' per-pixel facts, and the
+// debugger's full tree of segments. trace() is a template over them, so the
+// hot path pays nothing for what the other two record.
+#pragma once
+
+#include <cmath>
+
+#include "geometry/accel.h"
+#include "geometry/surface.h"
+#include "image/aov.h"
+#include "integrator/whitted.h"
+#include "rt/debug.pb.h"
+
+namespace rt {
+namespace recorders {
+
+inline void count(RayCounts& counts, RayKind kind) {
+    (kind == PRIMARY ? counts.camera : kind == REFRACTION ? counts.refraction : counts.reflection) += 1;
+}
+
+// The hot path: counts rays, records nothing.
+struct CountingRecorder {
+    RayCounts& counts;
+
+    int closest(const Accelerator& accel, const Ray& ray, RayKind kind, uint32_t, int, vec3, Hit& hit) {
+        count(counts, kind);
+        accel.intersect(ray, hit);
+        return -1;
+    }
+    int shadow(const Accelerator& accel, const Ray& ray, uint32_t, int, uint32_t, bool& occluded) {
+        ++counts.shadow;
+        occluded = accel.occluded(ray);
+        return -1;
+    }
+    void surface(int, const SurfaceHit&, const Hit&, const Material&, vec3) {}
+    void light(int, const Ray&, float, const Light&, vec3) {}
+    void contribution(int, vec3) {}
+};
+
+// The hot path's counts plus the auxiliary outputs: every ray's traversal
+// cost, and the primary hit's surface. Like the debugger's, its segment 0 is
+// the primary ray.
+struct AuxRecorder {
+    RayCounts& counts;
+    AuxSample& aux;
+
+    int closest(const Accelerator& accel, const Ray& ray, RayKind kind, uint32_t, int, vec3, Hit& hit) {
+        count(counts, kind);
+        accel.intersect(ray, hit, aux.cost);
+        if (kind != PRIMARY) return -1;
+        // Camera rays have unit directions: t is the distance.
+        if (hit.found()) aux.depth = hit.t;
+        return 0;
+    }
+    int shadow(const Accelerator& accel, const Ray& ray, uint32_t, int, uint32_t, bool& occluded) {
+        ++counts.shadow;
+        occluded = accel.occluded(ray, aux.cost);
+        return -1;
+    }
+    void surface(int segment, const SurfaceHit& s, const Hit&, const Material&, vec3 diffuse) {
+        if (segment != 0) return;
+        aux.normal = s.ns;
+        aux.albedo = diffuse;
+    }
+    // A light has no albedo; its normal faces the camera, which is outside it.
+    void light(int segment, const Ray& ray, float t, const Light& light, vec3) {
+        if (segment != 0) return;
+        aux.depth = t;
+        aux.normal = glm::normalize(ray.at(t) - light.position);
+    }
+    void contribution(int, vec3) {}
+};
+
+inline void set_vec3(google::protobuf::RepeatedField<float>* field, vec3 v) {
+    field->Clear();
+    field->Add(v.x);
+    field->Add(v.y);
+    field->Add(v.z);
+}
+
+// The debugger's view: every ray as a segment, with the BVH nodes it visited.
+struct DebugRecorder {
+    DebugPath& path;
+    float miss_length;
+
+    RaySegment& add(const Ray& ray, RayKind kind, uint32_t depth, int parent, const TraversalRecord& record) {
+        RaySegment& segment = *path.add_segments();
+        set_vec3(segment.mutable_origin(), ray.origin);
+        segment.set_kind(kind);
+        segment.set_depth(depth);
+        segment.set_parent(parent);
+        segment.mutable_visited_nodes()->Add(record.visited_nodes.begin(), record.visited_nodes.end());
+        segment.set_triangles_tested(record.triangles_tested);
+        return segment;
+    }
+
+    int closest(const Accelerator& accel, const Ray& ray, RayKind kind, uint32_t depth, int parent,
+                vec3 weight, Hit& hit) {
+        TraversalRecord record;
+        const bool found = accel.intersect(ray, hit, record);
+        RaySegment& segment = add(ray, kind, depth, parent, record);
+        segment.set_outcome(found ? HIT : MISS);
+        const float t = found ? hit.t : miss_length;
+        segment.set_t(t);
+        set_vec3(segment.mutable_end(), ray.at(t));
+        set_vec3(segment.mutable_weight(), weight);
+        return path.segments_size() - 1;
+    }
+    int shadow(const Accelerator& accel, const Ray& ray, uint32_t depth, int parent, uint32_t light,
+               bool& occluded) {
+        TraversalRecord record;
+        occluded = accel.occluded(ray, record);
+        RaySegment& segment = add(ray, SHADOW, depth, parent, record);
+        segment.set_outcome(occluded ? OCCLUDED : REACHED_LIGHT);
+        segment.set_light(light);
+        // A shadow ray towards a directional light has no end: drawn as a miss.
+        const float t = std::isinf(ray.t_max) ? miss_length : ray.t_max;
+        segment.set_t(t);
+        set_vec3(segment.mutable_end(), ray.at(t));
+        return path.segments_size() - 1;
+    }
+    void surface(int index, const SurfaceHit& s, const Hit& hit, const Material& m, vec3) {
+        RaySegment& segment = *path.mutable_segments(index);
+        set_vec3(segment.mutable_end(), s.p);
+        set_vec3(segment.mutable_normal(), s.ns);
+        segment.set_material(int32_t(s.material));
+        segment.set_material_name(m.name);
+        segment.set_primitive(hit.primitive);
+    }
+    // No material: the segment names the light it ended on.
+    void light(int index, const Ray& ray, float t, const Light& light, vec3 radiance) {
+        RaySegment& segment = *path.mutable_segments(index);
+        segment.set_outcome(REACHED_LIGHT);
+        segment.set_t(t);
+        const vec3 end = ray.at(t);
+        set_vec3(segment.mutable_end(), end);
+        set_vec3(segment.mutable_normal(), glm::normalize(end - light.position));
+        segment.set_material(-1);
+        segment.set_material_name(light.name);
+        set_vec3(segment.mutable_contribution(), radiance);
+    }
+    void contribution(int index, vec3 c) { set_vec3(path.mutable_segments(index)->mutable_contribution(), c); }
+};
+
+}  // namespace recorders
+}  // namespace rt
