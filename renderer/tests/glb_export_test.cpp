@@ -258,3 +258,42 @@ TEST(GlbExport, TriangleWithoutItsMaterialIsRefused) {
 
 }  // namespace
 }  // namespace rt
+
+namespace rt {
+namespace {
+
+using namespace rt::testing;
+
+// What three.js needs to preview a glTF material as the renderer shades it.
+TEST(GlbExport, EmissionAlphaAndMetallicRoughnessRoundTrip) {
+    Scene scene = two_material_scene();
+    Material& m = scene.materials[0];
+    m.metallic_roughness = true;
+    m.base_color = vec3(0.9f, 0.5f, 0.2f);
+    m.metallic = 0.75f;
+    m.roughness = 0.25f;
+    m.alpha = 0.5f;
+    m.alpha_mode = AlphaMode::Mask;
+    m.alpha_cutoff = 0.3f;
+    m.double_sided = true;
+    m.emission = vec3(4.0f, 2.0f, 1.0f);
+    scene.materials[1].alpha_mode = AlphaMode::Blend;
+    const Json json = glb_json(export_glb(scene));
+    EXPECT_EQ(json["materials"][0]["alphaMode"], "MASK");
+    EXPECT_EQ(json["materials"][1]["alphaMode"], "BLEND");
+
+    const Scene back = round_trip(scene);
+    const Material& b = back.materials[0];
+    EXPECT_EQ(b.base_color, m.base_color);
+    EXPECT_FLOAT_EQ(b.metallic, m.metallic);
+    EXPECT_FLOAT_EQ(b.roughness, m.roughness);
+    EXPECT_FLOAT_EQ(b.alpha, m.alpha);
+    EXPECT_EQ(b.alpha_mode, AlphaMode::Mask);
+    EXPECT_FLOAT_EQ(b.alpha_cutoff, 0.3f);
+    EXPECT_TRUE(b.double_sided);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(b.emission[c], m.emission[c], 1e-6f);
+    EXPECT_EQ(back.materials[1].alpha_mode, AlphaMode::Blend);
+}
+
+}  // namespace
+}  // namespace rt

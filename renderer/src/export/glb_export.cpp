@@ -100,6 +100,9 @@ class GlbExporter {
     int add_indices(const std::vector<uint32_t>& indices);
     int add_node(Json node);
     int add_texture(int scene_texture);
+    bool has_texture(const TextureRef& ref) const;
+    Json texture_info(const TextureRef& ref);
+    void add_surface(const Material& m, Json& material);
 
     void add_materials();
     void add_mesh();
@@ -113,6 +116,7 @@ class GlbExporter {
     Json scene_nodes_ = Json::array();
     std::string bin_;
     std::vector<int> texture_indices_;  // scene texture -> glTF texture, -1 until used
+    bool emissive_strength_ = false;  // some material needs KHR_materials_emissive_strength
 };
 
 int GlbExporter::add_view(const void* data, size_t bytes, int target) {
@@ -176,16 +180,55 @@ int GlbExporter::add_texture(int scene_texture) {
     return index;
 }
 
+bool GlbExporter::has_texture(const TextureRef& ref) const {
+    return ref && size_t(ref.index) < scene_.textures.size();
+}
+
+Json GlbExporter::texture_info(const TextureRef& ref) {
+    Json info = {{"index", add_texture(ref.index)}};
+    if (ref.texcoord != 0) info["texCoord"] = ref.texcoord;
+    return info;
+}
+
+// Emission, alpha and the occlusion map, as three.js's GLTFLoader reads them.
+void GlbExporter::add_surface(const Material& m, Json& material) {
+    if (m.emission != vec3(0.0f)) {
+        // emissiveFactor stops at 1; the rest goes into the strength.
+        const float strength = std::max(max_component(m.emission), 1.0f);
+        material["emissiveFactor"] = array3(m.emission / strength);
+        if (strength > 1.0f) {
+            material["extensions"]["KHR_materials_emissive_strength"] = {{"emissiveStrength", strength}};
+            emissive_strength_ = true;
+        }
+        if (has_texture(m.emissive_texture)) material["emissiveTexture"] = texture_info(m.emissive_texture);
+    }
+    if (m.alpha_mode == AlphaMode::Mask) {
+        material["alphaMode"] = "MASK";
+        material["alphaCutoff"] = m.alpha_cutoff;
+    } else if (m.alpha_mode == AlphaMode::Blend) {
+        material["alphaMode"] = "BLEND";
+    }
+    if (m.double_sided) material["doubleSided"] = true;
+    if (has_texture(m.occlusion_texture)) {
+        material["occlusionTexture"] = texture_info(m.occlusion_texture);
+        material["occlusionTexture"]["strength"] = m.occlusion_strength;
+    }
+}
+
 void GlbExporter::add_materials() {
     bool transmissive = false;
     for (const Material& m : scene_.materials) {
-        const vec3 base = glm::clamp(m.diffuse, 0.0f, 1.0f);
-        Json pbr = {{"baseColorFactor", {base.r, base.g, base.b, 1.0f}},
-                    {"metallicFactor", 0.0f},
-                    {"roughnessFactor", roughness_of(m.shininess)}};
-        if (m.base_color_texture && size_t(m.base_color_texture.index) < scene_.textures.size())
-            pbr["baseColorTexture"] = {{"index", add_texture(m.base_color_texture.index)}};
+        // glTF's own inputs where the material came from them; an OBJ's Phong
+        // terms as the nearest dielectric.
+        const vec3 base = glm::clamp(m.metallic_roughness ? m.base_color : m.diffuse, 0.0f, 1.0f);
+        Json pbr = {{"baseColorFactor", {base.r, base.g, base.b, m.alpha}},
+                    {"metallicFactor", m.metallic_roughness ? m.metallic : 0.0f},
+                    {"roughnessFactor", m.metallic_roughness ? m.roughness : roughness_of(m.shininess)}};
+        if (has_texture(m.base_color_texture)) pbr["baseColorTexture"] = texture_info(m.base_color_texture);
+        if (has_texture(m.metallic_roughness_texture))
+            pbr["metallicRoughnessTexture"] = texture_info(m.metallic_roughness_texture);
         Json material = {{"pbrMetallicRoughness", std::move(pbr)}};
+        add_surface(m, material);
         if (!m.name.empty()) material["name"] = m.name;
         material["extras"]["rt"]["phong"] = {{"diffuse", array3(m.diffuse)},
                                              {"specular", array3(m.specular)},
@@ -203,6 +246,7 @@ void GlbExporter::add_materials() {
     if (transmissive)
         for (const char* extension : {"KHR_materials_transmission", "KHR_materials_ior"})
             doc_["extensionsUsed"].push_back(extension);
+    if (emissive_strength_) doc_["extensionsUsed"].push_back("KHR_materials_emissive_strength");
 }
 
 void GlbExporter::add_mesh() {

@@ -4,6 +4,7 @@
 
 #include "bvh/binned_sah_builder.h"
 #include "bvh/traverse.h"
+#include "geometry/surface_material.h"
 #include "geometry/triangle.h"
 
 namespace rt {
@@ -90,6 +91,14 @@ Accelerator::Accelerator(const Scene& scene, unsigned threads) : scene_(scene) {
                 ordered_vertices_close_.push_back(scene.positions_close[scene.triangles[id][k]]);
     }
 
+    bool alpha = false;
+    for (const Material& m : scene.materials) alpha = alpha || m.alpha_mode != AlphaMode::Opaque;
+    if (alpha) {
+        ordered_alpha_.reserve(count);
+        for (uint32_t id : bvh_.prim_ids)
+            ordered_alpha_.push_back(scene.materials[scene.triangle_materials[id]].alpha_mode != AlphaMode::Opaque);
+    }
+
     stats_.triangles = count;
     stats_.nodes = bvh_.nodes.size();
     stats_.leaves = bvh_.leaf_count();
@@ -106,7 +115,7 @@ std::array<vec3, 3> Accelerator::moving_triangle(uint32_t i, float time) const {
 
 // flatten: the traversal, the leaf test and the triangle test become one
 // function, so the per-ray constants stay in registers.
-template <bool kMoving, typename Observer>
+template <bool kMoving, bool kFiltered, typename Observer>
 [[gnu::flatten]] bool Accelerator::closest_hit(const Ray& ray, Hit& hit, Observer&& observer) const {
     // Spheres first: their hit shortens the ray the BVH has to follow.
     Ray clipped = ray;
@@ -130,7 +139,20 @@ template <bool kMoving, typename Observer>
                     bool hit_here;
                     // Written out per case: an always_inline helper around the test
                     // kept flatten from inlining the traversal (GCC 12): renders 5% slower.
-                    if constexpr (kMoving) {
+                    if constexpr (kFiltered) {
+                        // A candidate first: a hole must leave the nearest hit as it was.
+                        TriangleHit candidate;
+                        if constexpr (kMoving) {
+                            const auto v = moving_triangle(i, ray.time);
+                            hit_here = intersect_triangle(watertight, v[0], v[1], v[2], t_max, candidate);
+                        } else {
+                            const vec3* v = &ordered_vertices_[3 * size_t(i)];
+                            hit_here = intersect_triangle(watertight, v[0], v[1], v[2], t_max, candidate);
+                        }
+                        hit_here = hit_here && (!ordered_alpha_[i] ||
+                                                triangle_coverage(scene_, bvh_.prim_ids[i], candidate.u, candidate.v) > 0.0f);
+                        if (hit_here) nearest_hit = candidate;
+                    } else if constexpr (kMoving) {
                         const auto v = moving_triangle(i, ray.time);
                         hit_here = intersect_triangle(watertight, v[0], v[1], v[2], t_max, nearest_hit);
                     } else {
@@ -154,8 +176,8 @@ template <bool kMoving, typename Observer>
     return hit.found();
 }
 
-template <bool kMoving, typename Observer>
-[[gnu::flatten]] bool Accelerator::any_hit(const Ray& ray, Observer&& observer) const {
+template <bool kMoving, bool kFiltered, typename Observer>
+[[gnu::flatten]] bool Accelerator::any_hit(const Ray& ray, float& visibility, Observer&& observer) const {
     for (const Sphere& sphere : scene_.spheres) {
         float t;
         if (intersect_sphere(ray, sphere, t)) return true;
@@ -167,7 +189,26 @@ template <bool kMoving, typename Observer>
                 observer.test_triangles(count);
                 TriangleHit ignored;
                 for (uint32_t i = first; i < first + count; ++i) {
-                    if constexpr (kMoving) {
+                    if constexpr (kFiltered) {
+                        bool hit_here;
+                        if constexpr (kMoving) {
+                            const auto v = moving_triangle(i, ray.time);
+                            hit_here = intersect_triangle(watertight, v[0], v[1], v[2], t_max, ignored);
+                        } else {
+                            const vec3* v = &ordered_vertices_[3 * size_t(i)];
+                            hit_here = intersect_triangle(watertight, v[0], v[1], v[2], t_max, ignored);
+                        }
+                        if (!hit_here) continue;
+                        if (!ordered_alpha_[i]) return true;
+                        // Each triangle sits in one leaf, so each is met once:
+                        // the product over them does not depend on the order. A
+                        // ray exactly through an edge two of them share meets
+                        // both, as the watertight test promises; that has
+                        // measure zero among the rays a render traces.
+                        const float coverage = triangle_coverage(scene_, bvh_.prim_ids[i], ignored.u, ignored.v);
+                        visibility *= 1.0f - coverage;
+                        if (!(visibility > 0.0f)) return true;
+                    } else if constexpr (kMoving) {
                         const auto v = moving_triangle(i, ray.time);
                         if (intersect_triangle(watertight, v[0], v[1], v[2], t_max, ignored)) return true;
                     } else {
@@ -183,14 +224,24 @@ template <bool kMoving, typename Observer>
 
 template <typename Observer>
 bool Accelerator::closest_hit(const Ray& ray, Hit& hit, Observer&& observer) const {
-    return scene_.moving() ? closest_hit<true>(ray, hit, std::forward<Observer>(observer))
-                           : closest_hit<false>(ray, hit, std::forward<Observer>(observer));
+    const bool filtered = !ordered_alpha_.empty();
+    if (scene_.moving())
+        return filtered ? closest_hit<true, true>(ray, hit, observer) : closest_hit<true, false>(ray, hit, observer);
+    return filtered ? closest_hit<false, true>(ray, hit, observer) : closest_hit<false, false>(ray, hit, observer);
 }
 
 template <typename Observer>
-bool Accelerator::any_hit(const Ray& ray, Observer&& observer) const {
-    return scene_.moving() ? any_hit<true>(ray, std::forward<Observer>(observer))
-                           : any_hit<false>(ray, std::forward<Observer>(observer));
+float Accelerator::visibility_of(const Ray& ray, Observer&& observer) const {
+    float visibility = 1.0f;
+    const bool filtered = !ordered_alpha_.empty();
+    bool stopped;
+    if (scene_.moving())
+        stopped = filtered ? any_hit<true, true>(ray, visibility, observer)
+                           : any_hit<true, false>(ray, visibility, observer);
+    else
+        stopped = filtered ? any_hit<false, true>(ray, visibility, observer)
+                           : any_hit<false, false>(ray, visibility, observer);
+    return stopped ? 0.0f : visibility;
 }
 
 bool Accelerator::intersect(const Ray& ray, Hit& hit) const {
@@ -208,14 +259,14 @@ bool Accelerator::intersect(const Ray& ray, Hit& hit, TraversalRecord& record) c
     return closest_hit(ray, hit, RecordingObserver{record});
 }
 
-bool Accelerator::occluded(const Ray& ray) const { return any_hit(ray, SilentObserver{}); }
+float Accelerator::visibility(const Ray& ray) const { return visibility_of(ray, SilentObserver{}); }
 
-bool Accelerator::occluded(const Ray& ray, TraversalStats& stats) const {
-    return any_hit(ray, CountingObserver{stats});
+float Accelerator::visibility(const Ray& ray, TraversalStats& stats) const {
+    return visibility_of(ray, CountingObserver{stats});
 }
 
-bool Accelerator::occluded(const Ray& ray, TraversalRecord& record) const {
-    return any_hit(ray, RecordingObserver{record});
+float Accelerator::visibility(const Ray& ray, TraversalRecord& record) const {
+    return visibility_of(ray, RecordingObserver{record});
 }
 
 Accelerator::LevelBoxes Accelerator::boxes(int level) const {

@@ -47,10 +47,17 @@ class Accelerator {
     bool intersect(const Ray& ray, Hit& hit, TraversalStats& stats) const;
     bool intersect(const Ray& ray, Hit& hit, TraversalRecord& record) const;
 
-    // Any hit with 0 < t < ray.t_max; stops at the first one.
-    bool occluded(const Ray& ray) const;
-    bool occluded(const Ray& ray, TraversalStats& stats) const;
-    bool occluded(const Ray& ray, TraversalRecord& record) const;
+    // How much light passes along the ray for 0 < t < ray.t_max: 0 at the
+    // first opaque hit (where the traversal stops), 1 with no hit, and the
+    // product of (1 - alpha) over BLEND surfaces in between. MASK holes and
+    // fully transparent texels are no hits, for these queries as for intersect.
+    float visibility(const Ray& ray) const;
+    float visibility(const Ray& ray, TraversalStats& stats) const;
+    float visibility(const Ray& ray, TraversalRecord& record) const;
+    // visibility() == 0.
+    bool occluded(const Ray& ray) const { return visibility(ray) == 0.0f; }
+    bool occluded(const Ray& ray, TraversalStats& stats) const { return visibility(ray, stats) == 0.0f; }
+    bool occluded(const Ray& ray, TraversalRecord& record) const { return visibility(ray, record) == 0.0f; }
 
     const bvh::Bvh& bvh() const { return bvh_; }
     const AccelStats& stats() const { return stats_; }
@@ -65,16 +72,19 @@ class Accelerator {
     LevelBoxes boxes(int level) const;
 
   private:
-    // kMoving: the scene moves. A template flag, so a still scene's leaves pay
-    // nothing for motion they do not have.
-    template <bool kMoving, typename Observer>
+    // kMoving: the scene moves; kFiltered: some triangle's material has alpha
+    // (MASK or BLEND), and hits on it pass the hit filter. Template flags, so a
+    // still, opaque scene's leaves pay nothing for motion or alpha they do not have.
+    template <bool kMoving, bool kFiltered, typename Observer>
     bool closest_hit(const Ray& ray, Hit& hit, Observer&& observer) const;
-    template <bool kMoving, typename Observer>
-    bool any_hit(const Ray& ray, Observer&& observer) const;
+    // Returns whether an opaque hit stopped the ray; scales `visibility` by
+    // the BLEND surfaces it passed.
+    template <bool kMoving, bool kFiltered, typename Observer>
+    bool any_hit(const Ray& ray, float& visibility, Observer&& observer) const;
     template <typename Observer>
     bool closest_hit(const Ray& ray, Hit& hit, Observer&& observer) const;
     template <typename Observer>
-    bool any_hit(const Ray& ray, Observer&& observer) const;
+    float visibility_of(const Ray& ray, Observer&& observer) const;
     // The vertices of the triangle at leaf position i as they are at `time`.
     std::array<vec3, 3> moving_triangle(uint32_t i, float time) const;
 
@@ -84,6 +94,8 @@ class Accelerator {
     // at shutter open, and at close when the scene moves (else empty).
     std::vector<vec3> ordered_vertices_;  // 3 per triangle
     std::vector<vec3> ordered_vertices_close_;
+    // 1 for each triangle, in leaf order, whose material has alpha; empty when none has.
+    std::vector<uint8_t> ordered_alpha_;
     AccelStats stats_;
 };
 

@@ -58,6 +58,12 @@ struct Scene {
     std::vector<vec3> positions;
     std::vector<vec3> normals;
     std::vector<vec2> texcoords;
+    // TEXCOORD_1, COLOR_0 (linear RGBA) and TANGENT (xyz, w the bitangent's
+    // sign), each empty when no mesh has it; a mesh without it gets (0, 0),
+    // (1, 1, 1, 1) and (0, 0, 0, 0) when another has it.
+    std::vector<vec2> texcoords1;
+    std::vector<glm::vec4> colors;
+    std::vector<glm::vec4> tangents;
     // The positions and normals at shutter close, one per vertex when anything
     // moves, else empty. Normals are interpolated like positions, then
     // renormalised.

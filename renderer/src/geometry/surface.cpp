@@ -36,6 +36,10 @@ SurfaceHit surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
     s.ns = try_normalize(b0 * normal(tri.x) + hit.u * normal(tri.y) + hit.v * normal(tri.z)).value_or(s.ng);
     if (!scene.texcoords.empty())
         s.uv = b0 * scene.texcoords[tri.x] + hit.u * scene.texcoords[tri.y] + hit.v * scene.texcoords[tri.z];
+    if (!scene.texcoords1.empty())
+        s.uv1 = b0 * scene.texcoords1[tri.x] + hit.u * scene.texcoords1[tri.y] + hit.v * scene.texcoords1[tri.z];
+    if (!scene.colors.empty())
+        s.color = b0 * scene.colors[tri.x] + hit.u * scene.colors[tri.y] + hit.v * scene.colors[tri.z];
     s.material = scene.triangle_materials[hit.primitive];
     return s;
 }

@@ -12,7 +12,9 @@ struct SurfaceHit {
     vec3 p_error{0.0f};  // bound on |p - exact point| per axis
     vec3 ng{0.0f};       // geometric normal, unit length
     vec3 ns{0.0f};       // interpolated shading normal, unit length
-    vec2 uv{0.0f};
+    vec2 uv{0.0f};       // TEXCOORD_0
+    vec2 uv1{0.0f};      // TEXCOORD_1
+    glm::vec4 color{1.0f};  // COLOR_0, white without
     uint32_t material = 0;
     float time = 0.0f;   // the shutter time of the ray that hit, for the rays spawned here
 };

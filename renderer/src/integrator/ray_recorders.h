@@ -28,9 +28,9 @@ struct CountingRecorder {
         accel.intersect(ray, hit);
         return -1;
     }
-    int shadow(const Accelerator& accel, const Ray& ray, uint32_t, int, uint32_t, bool& occluded) {
+    int shadow(const Accelerator& accel, const Ray& ray, uint32_t, int, uint32_t, float& visibility) {
         ++counts.shadow;
-        occluded = accel.occluded(ray);
+        visibility = accel.visibility(ray);
         return -1;
     }
     void surface(int, const SurfaceHit&, const Hit&, const Material&, vec3) {}
@@ -53,9 +53,9 @@ struct AuxRecorder {
         if (hit.found()) aux.depth = hit.t;
         return 0;
     }
-    int shadow(const Accelerator& accel, const Ray& ray, uint32_t, int, uint32_t, bool& occluded) {
+    int shadow(const Accelerator& accel, const Ray& ray, uint32_t, int, uint32_t, float& visibility) {
         ++counts.shadow;
-        occluded = accel.occluded(ray, aux.cost);
+        visibility = accel.visibility(ray, aux.cost);
         return -1;
     }
     void surface(int segment, const SurfaceHit& s, const Hit&, const Material&, vec3 diffuse) {
@@ -108,11 +108,11 @@ struct DebugRecorder {
         return path.segments_size() - 1;
     }
     int shadow(const Accelerator& accel, const Ray& ray, uint32_t depth, int parent, uint32_t light,
-               bool& occluded) {
+               float& visibility) {
         TraversalRecord record;
-        occluded = accel.occluded(ray, record);
+        visibility = accel.visibility(ray, record);
         RaySegment& segment = add(ray, SHADOW, depth, parent, record);
-        segment.set_outcome(occluded ? OCCLUDED : REACHED_LIGHT);
+        segment.set_outcome(visibility == 0.0f ? OCCLUDED : REACHED_LIGHT);
         segment.set_light(light);
         // A shadow ray towards a directional light has no end: drawn as a miss.
         const float t = std::isinf(ray.t_max) ? miss_length : ray.t_max;

@@ -9,6 +9,7 @@
 #include "integrator/dielectric.h"
 #include "integrator/sampling.h"
 #include "geometry/spawn.h"
+#include "geometry/surface_material.h"
 #include "integrator/punctual_light.h"
 #include "integrator/ray_recorders.h"
 #include "integrator/sphere_light.h"
@@ -50,6 +51,8 @@ WhittedIntegrator::WhittedIntegrator(const Accelerator& accel, const RenderSetti
     background_ = scene_.rig_lights > 0 && settings.light_rig() != NO_RIG ? scene_.rig_background : scene_.background;
     for (size_t i = 0; i < light_count_; ++i)
         if (scene_.lights[i].radius > 0.0f) sphere_lights_.push_back(uint32_t(i));
+    // The rig's fill is its last light (light_rig.h).
+    rig_fill_ = scene_.rig_lights > 0 && settings.light_rig() != NO_RIG ? scene_.lights.size() - 1 : SIZE_MAX;
     const bool splits = std::any_of(scene_.materials.begin(), scene_.materials.end(),
                                     [](const Material& m) { return m.transmission != vec3(0.0f); });
     const double bound = closest_rays_bound(max_depth_, min_contribution_, splits ? 2 : 1);
@@ -136,24 +139,47 @@ vec3 WhittedIntegrator::trace(const Ray& ray, RayKind kind, uint32_t depth, vec3
     const vec3 wo = -ray.direction;
     face_viewer(s, wo);
     const Material& m = scene_.materials[s.material];
-    vec3 diffuse = m.diffuse;
-    if (m.base_color_texture) diffuse *= scene_.textures[size_t(m.base_color_texture.index)].sample(s.uv);
-    recorder.surface(segment, s, hit, m, diffuse);
+    const SurfaceMaterial sm = surface_material(scene_, m, s);
+    recorder.surface(segment, s, hit, m, sm.diffuse);
 
     // Light that passes the dielectric interface never reaches the Phong
     // surface; an opaque material's opacity of exactly 1 leaves it unchanged.
-    vec3 color = direct_light(s, wo, m, diffuse, vec3(1.0f) - m.transmission, depth, segment, sampler, recorder);
+    // Emission is the surface's own and shows through any layer.
+    vec3 color = sm.emission +
+                 direct_light(s, wo, sm, vec3(1.0f) - m.transmission, depth, segment, sampler, recorder);
     recorder.contribution(segment, color);
 
     // The mirror belongs to the Phong surface, which the light that passes the
     // interface never meets either. The weights of the rays a hit spawns then
     // add up to at most 1, so min_contribution bounds a camera ray's tree of
     // rays; with Kr + T above 1 it would double at every glass hit.
-    vec3 mirror = m.reflectance * (vec3(1.0f) - m.transmission);
+    vec3 mirror = sm.reflectance * (vec3(1.0f) - m.transmission);
+    if (sm.coverage < 1.0f) return blended(ray, s, entering, wo, m, sm, color, mirror, depth, weight, segment,
+                                           sampler, recorder);
     if (m.transmission != vec3(0.0f))
         color += transmitted(s, entering, wo, m, mirror, depth, weight, segment, sampler, recorder);
     return color + follow(s, mirror_direction(ray.direction, s), REFLECTION, mirror, depth, weight, segment, sampler,
                           recorder);
+}
+
+// A BLEND surface of coverage c: c of what an opaque one would send back, and
+// 1 - c of what lies straight behind it, traced as an unbent refraction ray.
+// Every weight shrinks by c first, so min_contribution still bounds the tree.
+template <class Recorder>
+vec3 WhittedIntegrator::blended(const Ray& ray, const SurfaceHit& s, bool entering, vec3 wo, const Material& m,
+                                const SurfaceMaterial& sm, vec3 color, vec3 mirror, uint32_t depth, vec3 weight,
+                                int segment, const PixelSampler& sampler, Recorder& recorder) const {
+    const float c = sm.coverage;
+    color *= c;
+    mirror *= c;
+    if (m.transmission != vec3(0.0f)) {
+        vec3 fresnel(0.0f);  // the interface's reflected share, to be scaled by c too
+        color += c * transmitted(s, entering, wo, m, fresnel, depth, weight * c, segment, sampler, recorder);
+        mirror += c * fresnel;
+    }
+    color += follow(s, mirror_direction(ray.direction, s), REFLECTION, mirror, depth, weight, segment, sampler,
+                    recorder);
+    return color + follow(s, ray.direction, REFRACTION, vec3(1.0f - c), depth, weight, segment, sampler, recorder);
 }
 
 template <class Recorder>
@@ -198,8 +224,8 @@ vec3 WhittedIntegrator::transmitted(const SurfaceHit& s, bool entering, vec3 wo,
 }
 
 template <class Recorder>
-vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Material& m, vec3 diffuse,
-                                     vec3 opacity, uint32_t depth, int parent, const PixelSampler& sampler,
+vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const SurfaceMaterial& m, vec3 opacity,
+                                     uint32_t depth, int parent, const PixelSampler& sampler,
                                      Recorder& recorder) const {
     // Shadow rays stay opaque: a transmissive occluder blocks the light, as in
     // Whitted's model (caustics through glass are beyond it).
@@ -207,7 +233,9 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Materia
     for (size_t light_index = 0; light_index < light_count_; ++light_index) {
         const Light& light = scene_.lights[light_index];
         if (light.kind == DIRECTIONAL) {
-            color += sun_light(s, wo, m, diffuse, opacity, uint32_t(light_index), depth, parent, sampler, recorder);
+            // The occlusion map darkens the rig's fill, the stand-in for ambient light, and nothing else.
+            const vec3 scale = light_index == rig_fill_ ? opacity * m.occlusion : opacity;
+            color += sun_light(s, wo, m, scale, uint32_t(light_index), depth, parent, sampler, recorder);
             continue;
         }
         const vec3 to_light = light.position - s.p;
@@ -222,14 +250,14 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Materia
             // A spot's cone and a range window; exactly 1 (the same image) for a plain point light.
             const float attenuation = light.plain_point() ? 1.0f : punctual_attenuation(light, wi, distance_squared);
             if (!(attenuation > 0.0f)) continue;
-            bool occluded = false;
+            float visibility = 0.0f;
             const int shadow = recorder.shadow(accel_, spawn_ray_to(s.p, s.p_error, s.ng, light.position, s.time),
-                                               depth, parent, uint32_t(light_index), occluded);
-            if (occluded) continue;
+                                               depth, parent, uint32_t(light_index), visibility);
+            if (visibility == 0.0f) continue;
             // Intensity first: cos / d^2 alone overflows for lights closer than
             // 1e-19, where the irradiance of a light scaled with its scene does not.
-            const vec3 c = phong_brdf(diffuse, m.specular, m.shininess, s.ns, wo, wi) *
-                           (light.intensity * (attenuation * cos_theta) / distance_squared) * opacity;
+            const vec3 c = phong_brdf(m.diffuse, m.specular, m.shininess, s.ns, wo, wi) *
+                           (light.intensity * (attenuation * cos_theta) / distance_squared) * (visibility * opacity);
             recorder.contribution(shadow, c);
             color += c;
             continue;
@@ -244,12 +272,12 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Materia
             if (!light_sampler.sample(sampler.get_2d(uint32_t(light_index), i, light_samples_), sample)) continue;
             const float cos_theta = glm::dot(s.ns, sample.wi);
             if (cos_theta <= 0.0f || glm::dot(s.ng, sample.wi) <= 0.0f) continue;
-            bool occluded = false;
+            float visibility = 0.0f;
             const int shadow = recorder.shadow(accel_, spawn_ray_to(s.p, s.p_error, s.ng, sample.point, s.time), depth,
-                                               parent, uint32_t(light_index), occluded);
-            if (occluded) continue;
-            const vec3 c = phong_brdf(diffuse, m.specular, m.shininess, s.ns, wo, sample.wi) * sample.weight *
-                           (cos_theta / float(light_samples_)) * opacity;
+                                               parent, uint32_t(light_index), visibility);
+            if (visibility == 0.0f) continue;
+            const vec3 c = phong_brdf(m.diffuse, m.specular, m.shininess, s.ns, wo, sample.wi) * sample.weight *
+                           (cos_theta / float(light_samples_)) * (visibility * opacity);
             recorder.contribution(shadow, c);
             sum += c;
         }
@@ -262,7 +290,7 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Materia
 // with an angular diameter light_samples of them spread over its cone, drawn
 // from the light's own sample dimension like a spherical light's.
 template <class Recorder>
-vec3 WhittedIntegrator::sun_light(const SurfaceHit& s, vec3 wo, const Material& m, vec3 diffuse, vec3 opacity,
+vec3 WhittedIntegrator::sun_light(const SurfaceHit& s, vec3 wo, const SurfaceMaterial& m, vec3 opacity,
                                   uint32_t light_index, uint32_t depth, int parent, const PixelSampler& sampler,
                                   Recorder& recorder) const {
     const Light& light = scene_.lights[light_index];
@@ -274,12 +302,12 @@ vec3 WhittedIntegrator::sun_light(const SurfaceHit& s, vec3 wo, const Material& 
         const vec3 wi = soft ? sun.sample(sampler.get_2d(light_index, i, count)) : -light.direction;
         const float cos_theta = glm::dot(s.ns, wi);
         if (cos_theta <= 0.0f || glm::dot(s.ng, wi) <= 0.0f) continue;
-        bool occluded = false;
+        float visibility = 0.0f;
         const int shadow =
-            recorder.shadow(accel_, spawn_ray(s.p, s.p_error, s.ng, wi, s.time), depth, parent, light_index, occluded);
-        if (occluded) continue;
-        const vec3 c = phong_brdf(diffuse, m.specular, m.shininess, s.ns, wo, wi) * light.intensity *
-                       (cos_theta / float(count)) * opacity;
+            recorder.shadow(accel_, spawn_ray(s.p, s.p_error, s.ng, wi, s.time), depth, parent, light_index, visibility);
+        if (visibility == 0.0f) continue;
+        const vec3 c = phong_brdf(m.diffuse, m.specular, m.shininess, s.ns, wo, wi) * light.intensity *
+                       (cos_theta / float(count)) * (visibility * opacity);
         recorder.contribution(shadow, c);
         sum += c;
     }

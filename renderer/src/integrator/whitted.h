@@ -18,6 +18,7 @@
 #include "rt/render.pb.h"
 #include "integrator/sampler.h"
 #include "geometry/surface.h"
+#include "geometry/surface_material.h"
 
 namespace rt {
 
@@ -84,10 +85,14 @@ class WhittedIntegrator {
     vec3 transmitted(const SurfaceHit& s, bool entering, vec3 wo, const Material& m, vec3& mirror, uint32_t depth,
                      vec3 weight, int parent, const PixelSampler& sampler, Recorder& recorder) const;
     template <class Recorder>
-    vec3 direct_light(const SurfaceHit& s, vec3 wo, const Material& m, vec3 diffuse, vec3 opacity, uint32_t depth,
-                      int parent, const PixelSampler& sampler, Recorder& recorder) const;
+    vec3 blended(const Ray& ray, const SurfaceHit& s, bool entering, vec3 wo, const Material& m,
+                 const SurfaceMaterial& sm, vec3 color, vec3 mirror, uint32_t depth, vec3 weight, int segment,
+                 const PixelSampler& sampler, Recorder& recorder) const;
     template <class Recorder>
-    vec3 sun_light(const SurfaceHit& s, vec3 wo, const Material& m, vec3 diffuse, vec3 opacity, uint32_t light_index,
+    vec3 direct_light(const SurfaceHit& s, vec3 wo, const SurfaceMaterial& m, vec3 opacity, uint32_t depth, int parent,
+                      const PixelSampler& sampler, Recorder& recorder) const;
+    template <class Recorder>
+    vec3 sun_light(const SurfaceHit& s, vec3 wo, const SurfaceMaterial& m, vec3 opacity, uint32_t light_index,
                    uint32_t depth, int parent, const PixelSampler& sampler, Recorder& recorder) const;
     // The nearest spherical light `ray` meets before ray.t_max, or -1; its distance in `t`.
     int nearest_light(const Ray& ray, float& t) const;
@@ -98,6 +103,7 @@ class WhittedIntegrator {
     float min_contribution_;
     uint32_t light_samples_;
     LightSampling light_sampling_;
+    size_t rig_fill_;                      // the default rig's fill light, SIZE_MAX without the rig
     size_t light_count_;                   // the lights that shine: all, or all but the default rig
     vec3 background_;                      // what rays that miss see
     std::vector<uint32_t> sphere_lights_;  // indices of the lights with a radius

@@ -17,7 +17,7 @@ namespace rt {
 // Extensions that may appear in `extensionsRequired`: any other one changes the
 // meaning of the file in a way we would silently get wrong, so it is refused.
 inline constexpr const char* kSupportedGltfExtensions[] = {"KHR_lights_punctual", "KHR_materials_transmission",
-                                                          "KHR_materials_ior"};
+                                                          "KHR_materials_ior", "KHR_materials_emissive_strength"};
 
 // The scene of a parsed model, its nodes moved by its first animation and by
 // `motions` (gltf_poses.h). Image payloads read from URIs are still encoded, in
@@ -38,6 +38,8 @@ class GltfMaterials {
     uint32_t material(int index, const std::string& what);
 
   private:
+    void read_surface(const tinygltf::Material& source, const std::string& label, const std::string& name,
+                      Material& out);
     int texture(const tinygltf::TextureInfo& info, const std::string& what);
 
     const tinygltf::Model& model_;

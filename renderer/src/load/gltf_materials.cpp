@@ -71,7 +71,9 @@ uint32_t GltfMaterials::material(int index, const std::string& what) {
     const vec3 base(glm::clamp(glm::make_vec3(pbr.baseColorFactor.data()), 0.0, 1.0));
     Material out;
     out.name = source.name.empty() ? name : source.name;
+    out.metallic_roughness = true;
     out.base_color = base;
+    out.alpha = float(glm::clamp(pbr.baseColorFactor[3], 0.0, 1.0));
     out.metallic = float(glm::clamp(pbr.metallicFactor, 0.0, 1.0));
     out.roughness = float(glm::clamp(pbr.roughnessFactor, 0.0, 1.0));
     const PhongTerms terms = phong_from_metallic_roughness(out.base_color, out.metallic, out.roughness);
@@ -85,13 +87,56 @@ uint32_t GltfMaterials::material(int index, const std::string& what) {
     if (pbr.baseColorTexture.index >= 0)
         out.base_color_texture.index = texture(pbr.baseColorTexture, name + ".pbrMetallicRoughness.baseColorTexture");
     if (pbr.metallicRoughnessTexture.index >= 0)
-        scene_.warnings.push_back(name_ + ": " + name +
-                                  ".pbrMetallicRoughness.metallicRoughnessTexture is ignored: the factors "
-                                  "alone set the Phong parameters");
+        out.metallic_roughness_texture.index =
+            texture(pbr.metallicRoughnessTexture, name + ".pbrMetallicRoughness.metallicRoughnessTexture");
+    read_surface(source, label, name, out);
 
     mapped = int(scene_.materials.size());
     scene_.materials.push_back(std::move(out));
     return uint32_t(mapped);
+}
+
+// Emission, alpha, the occlusion map and doubleSided (docs/materials.md).
+void GltfMaterials::read_surface(const tinygltf::Material& source, const std::string& label, const std::string& name,
+                                 Material& out) {
+    if (source.emissiveFactor.size() != 3)
+        throw SceneError(label + ".emissiveFactor has " + std::to_string(source.emissiveFactor.size()) +
+                         " values, expected 3");
+    const double strength = extension_number(source, "KHR_materials_emissive_strength", "emissiveStrength", 1.0);
+    if (!std::isfinite(strength) || strength < 0.0)
+        throw SceneError(label + ".extensions.KHR_materials_emissive_strength.emissiveStrength is " + shown(strength) +
+                         ", expected a number of at least 0");
+    vec3 emission(0.0f);
+    for (int k = 0; k < 3; ++k) {
+        const double e = source.emissiveFactor[size_t(k)];
+        if (!std::isfinite(e)) throw SceneError(label + ".emissiveFactor has a value that is not finite");
+        emission[k] = float(std::clamp(e, 0.0, 1.0) * strength);
+    }
+    out.emission = emission;
+    if (source.emissiveTexture.index >= 0 && emission != vec3(0.0f))
+        out.emissive_texture.index = texture(source.emissiveTexture, name + ".emissiveTexture");
+
+    if (source.alphaMode == "MASK") out.alpha_mode = AlphaMode::Mask;
+    else if (source.alphaMode == "BLEND") out.alpha_mode = AlphaMode::Blend;
+    else if (source.alphaMode != "OPAQUE")
+        throw SceneError(label + ".alphaMode is " + in_quotes(source.alphaMode) +
+                         ", expected \"OPAQUE\", \"MASK\" or \"BLEND\"");
+    if (!std::isfinite(source.alphaCutoff) || source.alphaCutoff < 0.0)
+        throw SceneError(label + ".alphaCutoff is " + shown(source.alphaCutoff) + ", expected a number of at least 0");
+    out.alpha_cutoff = float(source.alphaCutoff);
+    out.double_sided = source.doubleSided;
+
+    const tinygltf::OcclusionTextureInfo& occlusion = source.occlusionTexture;
+    if (occlusion.index >= 0) {
+        if (!std::isfinite(occlusion.strength))
+            throw SceneError(label + ".occlusionTexture.strength is not a finite number");
+        tinygltf::TextureInfo info;
+        info.index = occlusion.index;
+        info.texCoord = occlusion.texCoord;
+        info.extensions = occlusion.extensions;
+        out.occlusion_texture.index = texture(info, name + ".occlusionTexture");
+        out.occlusion_strength = float(std::clamp(occlusion.strength, 0.0, 1.0));
+    }
 }
 
 int GltfMaterials::texture(const tinygltf::TextureInfo& info, const std::string& what) {
