@@ -19,7 +19,8 @@ GltfDoc material_doc(const Json& material) {
     return doc;
 }
 
-const Material& only_material(const Scene& scene) { return scene.materials[scene.triangle_materials[0]]; }
+// A copy: the scene it came from is often a temporary.
+Material only_material(const Scene& scene) { return scene.materials[scene.triangle_materials[0]]; }
 
 TEST(LoaderSurface, EmissionIsTheFactorTimesTheStrength) {
     GltfDoc doc = material_doc({{"emissiveFactor", {1.0, 0.5, 0.0}},
