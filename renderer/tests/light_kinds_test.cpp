@@ -20,12 +20,6 @@ void expect_vec3(vec3 actual, vec3 expected) {
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(actual[c], expected[c], 1e-5f) << "component " << c;
 }
 
-vec3 render_pixel(const Renderer& renderer, uint32_t x, uint32_t y) {
-    float rgb[3];
-    renderer.render_tile({x, y, 1, 1}, rgb);
-    return {rgb[0], rgb[1], rgb[2]};
-}
-
 // The specification's formulas, written out apart from the renderer's.
 float expected_spot(float cos_angle, float inner, float outer) {
     const float t = std::clamp((cos_angle - std::cos(outer)) / (std::cos(inner) - std::cos(outer)), 0.0f, 1.0f);

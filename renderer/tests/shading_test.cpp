@@ -9,12 +9,6 @@ namespace {
 
 using namespace rt::testing;
 
-vec3 render_pixel(const Renderer& renderer, uint32_t x, uint32_t y) {
-    float rgb[3];
-    renderer.render_tile({x, y, 1, 1}, rgb);
-    return {rgb[0], rgb[1], rgb[2]};
-}
-
 // Diffuse plane under a point light, seen from above: every pixel equals
 // Kd/pi * I cos(theta) / d^2 at its hit point.
 TEST(Shading, LambertianPlaneMatchesTheClosedForm) {

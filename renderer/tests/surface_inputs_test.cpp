@@ -16,12 +16,6 @@ namespace {
 
 using namespace rt::testing;
 
-vec3 render_pixel(const Renderer& renderer, uint32_t x, uint32_t y) {
-    float rgb[3];
-    renderer.render_tile({x, y, 1, 1}, rgb);
-    return {rgb[0], rgb[1], rgb[2]};
-}
-
 Light sun_from_above(float lux) {
     Light sun;
     sun.kind = DIRECTIONAL;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "geometry/scene.h"
+#include "integrator/render.h"
 
 namespace rt::testing {
 
@@ -48,6 +49,13 @@ inline Camera make_camera(vec3 position, vec3 target, float fov_y = 45.0f, vec3 
     }
     camera.set_fov_y(fov_y);
     return camera;
+}
+
+// The colour of one pixel, rendered as a tile of its own.
+inline vec3 render_pixel(const Renderer& renderer, uint32_t x, uint32_t y) {
+    float rgb[3];
+    renderer.render_tile({x, y, 1, 1}, rgb);
+    return {rgb[0], rgb[1], rgb[2]};
 }
 
 inline RenderSettings make_settings(uint32_t width, uint32_t height) {

@@ -189,32 +189,23 @@ template <bool kMoving, bool kFiltered, typename Observer>
                 observer.test_triangles(count);
                 TriangleHit ignored;
                 for (uint32_t i = first; i < first + count; ++i) {
-                    if constexpr (kFiltered) {
-                        bool hit_here;
-                        if constexpr (kMoving) {
-                            const auto v = moving_triangle(i, ray.time);
-                            hit_here = intersect_triangle(watertight, v[0], v[1], v[2], t_max, ignored);
-                        } else {
-                            const vec3* v = &ordered_vertices_[3 * size_t(i)];
-                            hit_here = intersect_triangle(watertight, v[0], v[1], v[2], t_max, ignored);
-                        }
-                        if (!hit_here) continue;
-                        if (!ordered_alpha_[i]) return true;
-                        // Each triangle sits in one leaf, so each is met once:
-                        // the product over them does not depend on the order. A
-                        // ray exactly through an edge two of them share meets
-                        // both, as the watertight test promises; that has
-                        // measure zero among the rays a render traces.
-                        const float coverage = triangle_coverage(scene_, bvh_.prim_ids[i], ignored.u, ignored.v);
-                        visibility *= 1.0f - coverage;
-                        if (!(visibility > 0.0f)) return true;
-                    } else if constexpr (kMoving) {
+                    bool hit_here;
+                    if constexpr (kMoving) {
                         const auto v = moving_triangle(i, ray.time);
-                        if (intersect_triangle(watertight, v[0], v[1], v[2], t_max, ignored)) return true;
+                        hit_here = intersect_triangle(watertight, v[0], v[1], v[2], t_max, ignored);
                     } else {
                         const vec3* v = &ordered_vertices_[3 * size_t(i)];
-                        if (intersect_triangle(watertight, v[0], v[1], v[2], t_max, ignored)) return true;
+                        hit_here = intersect_triangle(watertight, v[0], v[1], v[2], t_max, ignored);
                     }
+                    if (!hit_here) continue;
+                    if (!kFiltered || !ordered_alpha_[i]) return true;
+                    // Each triangle sits in one leaf, so each is met once: the
+                    // product over them does not depend on the order. A ray
+                    // exactly through an edge two of them share meets both, as
+                    // the watertight test promises; that has measure zero among
+                    // the rays a render traces.
+                    visibility *= 1.0f - triangle_coverage(scene_, bvh_.prim_ids[i], ignored.u, ignored.v);
+                    if (!(visibility > 0.0f)) return true;
                 }
                 return false;
             },
