@@ -5,7 +5,7 @@
 FROM debian:bookworm AS renderer
 RUN apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
       cmake ninja-build g++ pkg-config python3 python3-venv python3-dev \
-      libopenimageio-dev libglm-dev libtinygltf-dev libtinyobjloader-dev libstb-dev nlohmann-json3-dev \
+      libopenimageio-dev libglm-dev libtinygltf-dev libtinyobjloader-dev libstb-dev libwebp-dev nlohmann-json3-dev \
       libprotobuf-dev protobuf-compiler libgtest-dev \
     && rm -rf /var/lib/apt/lists/*
 WORKDIR /src

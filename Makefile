@@ -10,7 +10,7 @@ JOBS    ?= $(shell nproc)
 SCENES  := $(BUILD)/scenes
 
 APT_PACKAGES := cmake ninja-build g++ ccache pkg-config git python3 python3-venv python3-dev \
-  libopenimageio-dev libglm-dev libtinygltf-dev libtinyobjloader-dev libstb-dev \
+  libopenimageio-dev libglm-dev libtinygltf-dev libtinyobjloader-dev libstb-dev libwebp-dev \
   nlohmann-json3-dev libprotobuf-dev protobuf-compiler libgtest-dev libembree-dev \
   clang libclang-rt-14-dev
 

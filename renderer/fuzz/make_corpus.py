@@ -355,10 +355,11 @@ def gltf_cases(c: Corpus) -> None:
         ("data_uri_empty", {"uri": "data:image/png;base64,"}, "any", ""),
         ("data_uri_unknown_kind", {"uri": "data:image/webp;base64,AAAA"}, "error", "data: URI"),
         ("data_uri_plain", {"uri": "data:image/png,rawbytes"}, "error", "data: URI"),
-        ("not_an_image", {"uri": "buffer.bin"}, "loads", "is not a PNG, JPEG, BMP or TGA image"),
-        ("huge_header", {"uri": data_uri(png_header(10000, 10000), "image/png")}, "error", "texels"),
-        ("huge_header_8193", {"uri": data_uri(png_header(8193, 8193), "image/png")}, "error", "texels"),
-        ("huge_header_8192", {"uri": data_uri(png_header(8192, 8192), "image/png")}, "loads", "texture ignored"),
+        ("not_an_image", {"uri": "buffer.bin"}, "loads", "is not a PNG, JPEG, BMP, TGA or WebP image"),
+        # 768 MiB of 8-bit texels and mips: an RGB image of 14189x14189 fits, one texel more per side not.
+        ("huge_header", {"uri": data_uri(png_header(16000, 16000), "image/png")}, "error", "texels"),
+        ("huge_header_14190", {"uri": data_uri(png_header(14190, 14190), "image/png")}, "error", "texels"),
+        ("huge_header_14189", {"uri": data_uri(png_header(14189, 14189), "image/png")}, "loads", "texture ignored"),
         # Beyond what stb_image decodes at all: a broken image, only a warning.
         ("huge_header_65536", {"uri": data_uri(png_header(65536, 65536), "image/png")}, "loads", "texture ignored"),
         ("huge_header_100000", {"uri": data_uri(png_header(100000, 100000), "image/png")}, "loads",
@@ -386,7 +387,7 @@ def gltf_cases(c: Corpus) -> None:
         ("texture_negative", lambda d: d["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"].update(
             index=-2), "any", ""),
         ("texcoord_9", lambda d: d["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"].update(texCoord=9),
-         "loads", "only TEXCOORD_0 is read"),
+         "loads", "only TEXCOORD_0 and TEXCOORD_1 are read"),
         ("source_missing", lambda d: d["textures"][0].update(source=3), "error", "refers to image 3"),
         ("sampler_missing", lambda d: d["textures"][0].update(sampler=2), "error", "refers to sampler 2"),
         ("wrap_unknown", lambda d: d.update(samplers=[{"wrapS": 1}]) or d["textures"][0].update(sampler=0),
@@ -660,7 +661,7 @@ def glb_cases(c: Corpus) -> None:
         d["images"] = [{"bufferView": 4, "mimeType": "image/png"}]
         return glb(d, payload + image), expect, mentions
     for name, image, expect, mentions in [
-        ("valid", PNG, "loads", ""), ("huge_header", png_header(9000, 9000), "error", "texels"),
+        ("valid", PNG, "loads", ""), ("huge_header", png_header(16000, 16000), "error", "texels"),
         ("truncated", PNG[:50], "loads", "texture ignored"), ("garbage", bytes(range(64)), "loads", "texture ignored"),
     ]:
         data, expect, mentions = textured(image, expect, mentions)
@@ -788,7 +789,7 @@ def obj_cases(c: Corpus) -> None:
         ("map_symlink", "map_Kd escape/outside.bin", "error", "leads outside the scene folder"),
         ("map_url", "map_Kd https://example.com/t.png", "error", "is a URL"),
         ("map_missing", "map_Kd missing.png", "loads", "not found: texture ignored"),
-        ("map_not_image", "map_Kd buffer.bin", "loads", "is not a PNG, JPEG, BMP or TGA image"),
+        ("map_not_image", "map_Kd buffer.bin", "loads", "is not a PNG, JPEG, BMP, TGA or WebP image"),
         ("map_folder", "map_Kd folder.bin", "error", "is not a regular file"),
         ("map_options_huge", "map_Kd -s 1e999 1e999 1e999 -o -1e999 0 0 -texres 99999999999 -bm nan image.png",
          "any", ""),

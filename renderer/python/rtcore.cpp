@@ -100,6 +100,8 @@ NB_MODULE(rtcore, m) {
                      "counts, degenerate triangles dropped, bounds, lights, named cameras, the default camera "
                      "and the loader's warnings (the service fills in the rest).")
         .def_prop_ro("triangle_count", &PyScene::triangle_count)
+        .def_prop_ro("texture_bytes", &PyScene::texture_bytes,
+                     "What the scene's textures take in memory: 8-bit texels with their mip levels.")
         .def_prop_ro("default_camera", &PyScene::default_camera, "Serialized rt.Camera used when none is given.")
         .def_prop_ro("bvh_stats", &PyScene::bvh_stats)
         .def("to_glb", &PyScene::to_glb,

@@ -112,6 +112,12 @@ nb::bytes PyScene::info() const {
     return to_bytes(info);
 }
 
+size_t PyScene::texture_bytes() const {
+    size_t bytes = 0;
+    for (const rt::Texture& texture : scene_->textures) bytes += texture.bytes();
+    return bytes;
+}
+
 nb::bytes PyScene::default_camera() const { return to_bytes(rt::default_camera(*scene_)); }
 
 nb::dict PyScene::bvh_stats() const {

@@ -32,6 +32,7 @@ class PyScene {
     // lights, cameras, warnings.
     nb::bytes info() const;
     size_t triangle_count() const { return scene_->triangles.size(); }
+    size_t texture_bytes() const;
     nb::bytes default_camera() const;
     nb::dict bvh_stats() const;
 

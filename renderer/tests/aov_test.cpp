@@ -171,7 +171,7 @@ TEST(Aov, AlbedoCarriesTheTexture) {
     const uint32_t material = add_material(scene, vec3(0.5f, 1.0f, 1.0f));
     add_quad(scene, vec3(-5.0f, -5.0f, -2.0f), vec3(10.0f, 0.0f, 0.0f), vec3(0.0f, 10.0f, 0.0f), material);
     scene.texcoords.assign(scene.positions.size(), vec2(0.5f));
-    scene.textures.push_back({1, 1, {vec3(0.2f, 0.4f, 0.6f)}});
+    scene.textures.push_back(Texture(1, 1, 3, Texture::Encoding::Linear, {51, 102, 153}));  // 0.2, 0.4, 0.6
     scene.materials[material].base_color_texture.index = 0;
     const Accelerator accel(scene, 1);
     const Renderer renderer(accel, make_settings(4, 4), make_camera(vec3(0.0f), vec3(0.0f, 0.0f, -1.0f)));

@@ -207,8 +207,12 @@ TEST(GlbExport, TexturedSceneRoundTripsItsTexture) {
     doc.json["images"] = Json::array({{{"uri", "data:image/png;base64," + base64(image)}}});
     doc.json["samplers"] = Json::array({{{"wrapS", 33071}, {"wrapT", 33648}}});
     doc.json["textures"] = Json::array({{{"source", 0}, {"sampler", 0}}});
+    const Json transform = {{"offset", {0.5, -0.25}}, {"rotation", 0.3}, {"scale", {2, 3}}};
     doc.json["materials"] = Json::array(
-        {{{"name", "checker"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}, {"metallicFactor", 0}}}}});
+        {{{"name", "checker"},
+          {"pbrMetallicRoughness",
+           {{"baseColorTexture", {{"index", 0}, {"extensions", {{"KHR_texture_transform", transform}}}}},
+            {"metallicFactor", 0}}}}});
     doc.add_mesh_node({{"attributes", {{"POSITION", positions}, {"TEXCOORD_0", texcoords}}},
                        {"indices", indices},
                        {"material", 0}});
@@ -220,13 +224,22 @@ TEST(GlbExport, TexturedSceneRoundTripsItsTexture) {
     const Texture &a = scene.textures[0], &b = back.textures[0];
     EXPECT_EQ(b.width, 3);
     EXPECT_EQ(b.height, 2);
-    EXPECT_EQ(b.texels, a.texels) << "8-bit sRGB texels survive re-encoding exactly";
+    EXPECT_EQ(b.channels, 3);
+    EXPECT_EQ(b.encoding, Texture::Encoding::Srgb);
+    ASSERT_EQ(b.levels.size(), a.levels.size());
+    for (size_t l = 0; l < a.levels.size(); ++l)
+        EXPECT_EQ(b.levels[l].texels, a.levels[l].texels) << "8-bit texels survive re-encoding exactly, level " << l;
     EXPECT_EQ(b.wrap_s, Texture::Wrap::ClampToEdge);
     EXPECT_EQ(b.wrap_t, Texture::Wrap::MirroredRepeat);
     EXPECT_EQ(back.texcoords, scene.texcoords);
     ASSERT_EQ(back.materials.size(), 1u);
     EXPECT_EQ(back.materials[0].name, "checker");
     EXPECT_EQ(back.materials[0].base_color_texture.index, 0);
+    // KHR_texture_transform travels to the viewer as it came.
+    const TextureTransform& t = back.materials[0].base_color_texture.transform;
+    EXPECT_EQ(t.offset, vec2(0.5f, -0.25f));
+    EXPECT_FLOAT_EQ(t.rotation, 0.3f);
+    EXPECT_EQ(t.scale, vec2(2.0f, 3.0f));
 }
 
 TEST(GlbExport, ObjSceneBecomesTheSameGlb) {

@@ -217,13 +217,13 @@ TEST(LoaderGltf, BaseColourTextureIsDecodedFromSrgbAndSampledBilinearly) {
     const float grey = srgb_to_linear(128.0f / 255.0f);
     EXPECT_NEAR(grey, 0.2158605f, 1e-5f);
     // Texel centres, then half way between texels.
-    expect_vec3(texture.sample({0.25f, 0.25f}), {1, 0, 0});
-    expect_vec3(texture.sample({0.75f, 0.75f}), vec3(grey));
-    expect_vec3(texture.sample({0.5f, 0.25f}), {0.5f, 0.5f, 0});
-    expect_vec3(texture.sample({0.5f, 0.5f}), vec3(0.25f + 0.25f * grey, 0.25f + 0.25f * grey, 0.25f + 0.25f * grey));
+    expect_vec3(vec3(texture.sample({0.25f, 0.25f})), {1, 0, 0});
+    expect_vec3(vec3(texture.sample({0.75f, 0.75f})), vec3(grey));
+    expect_vec3(vec3(texture.sample({0.5f, 0.25f})), {0.5f, 0.5f, 0});
+    expect_vec3(vec3(texture.sample({0.5f, 0.5f})), vec3(0.25f + 0.25f * grey));
     // Repeat in s wraps texel 1 onto texel 0; clamp in t does not wrap.
-    expect_vec3(texture.sample({0.0f, 0.25f}), {0.5f, 0.5f, 0});
-    expect_vec3(texture.sample({0.25f, 0.0f}), {1, 0, 0});
+    expect_vec3(vec3(texture.sample({0.0f, 0.25f})), {0.5f, 0.5f, 0});
+    expect_vec3(vec3(texture.sample({0.25f, 0.0f})), {1, 0, 0});
 }
 
 TEST(LoaderGltf, MirroredRepeatSamplerIsKept) {
@@ -231,7 +231,7 @@ TEST(LoaderGltf, MirroredRepeatSamplerIsKept) {
     ASSERT_EQ(scene.textures.size(), 1u);
     EXPECT_EQ(scene.textures[0].wrap_s, Texture::Wrap::MirroredRepeat);
     // u = 1.25 mirrors back onto texel 1 (green); Repeat would give texel 0.
-    expect_vec3(scene.textures[0].sample({1.25f, 0.25f}), {0, 1, 0});
+    expect_vec3(vec3(scene.textures[0].sample({1.25f, 0.25f})), {0, 1, 0});
 }
 
 TEST(LoaderGltf, TextureInABufferViewOfAGlb) {
@@ -243,7 +243,7 @@ TEST(LoaderGltf, TextureInABufferViewOfAGlb) {
     doc.json["images"] = {{{"bufferView", doc.json["bufferViews"].size() - 1}, {"mimeType", "image/png"}}};
     const Scene scene = load_bytes(doc.glb(), "tex.glb");
     ASSERT_EQ(scene.textures.size(), 1u);
-    expect_vec3(scene.textures[0].sample({0.75f, 0.25f}), {0, 1, 0});
+    expect_vec3(vec3(scene.textures[0].sample({0.75f, 0.25f})), {0, 1, 0});
 }
 
 TEST(LoaderGltf, PunctualLightsTakeTheirNodesPosition) {

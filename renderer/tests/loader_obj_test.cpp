@@ -132,8 +132,8 @@ TEST(LoaderObj, MapKdIsReadThroughTheFolderAndDecodedFromSrgb) {
     EXPECT_EQ(material_named(scene, "same").base_color_texture.index, 0);
     const Texture& texture = scene.textures[0];
     EXPECT_EQ(texture.wrap_s, Texture::Wrap::ClampToEdge);
-    expect_vec3(texture.sample({0.25f, 0.5f}), vec3(srgb_to_linear(128.0f / 255.0f)));
-    expect_vec3(texture.sample({0.0f, 0.5f}), vec3(srgb_to_linear(128.0f / 255.0f)));  // clamped, not wrapped
+    expect_vec3(vec3(texture.sample({0.25f, 0.5f})), vec3(srgb_to_linear(128.0f / 255.0f)));
+    expect_vec3(vec3(texture.sample({0.0f, 0.5f})), vec3(srgb_to_linear(128.0f / 255.0f)));  // clamped, not wrapped
 }
 
 TEST(LoaderObj, MissingLibraryAndTextureAreWarningsNotErrors) {

@@ -11,17 +11,14 @@
 namespace rt {
 namespace {
 
-// A 4x1 ramp: texel i holds i in every channel.
+// A 4x1 linear grey ramp: texel i holds i / 3, which at() scales back to i.
 Texture ramp(Texture::Wrap wrap) {
-    Texture t;
-    t.width = 4;
-    t.height = 1;
-    t.texels = {vec3(0.0f), vec3(1.0f), vec3(2.0f), vec3(3.0f)};
+    Texture t(4, 1, 1, Texture::Encoding::Linear, {0, 85, 170, 255});
     t.wrap_s = t.wrap_t = wrap;
     return t;
 }
 
-float at(const Texture& t, float u) { return t.sample({u, 0.5f}).x; }
+float at(const Texture& t, float u) { return 3.0f * t.sample({u, 0.5f}).x; }
 
 TEST(MaterialTexture, TexelCentresSitAtHalfIntegers) {
     const Texture t = ramp(Texture::Wrap::ClampToEdge);
@@ -31,14 +28,13 @@ TEST(MaterialTexture, TexelCentresSitAtHalfIntegers) {
 }
 
 TEST(MaterialTexture, BilinearInBothDirections) {
-    Texture t;
-    t.width = t.height = 2;
-    t.texels = {vec3(0.0f), vec3(1.0f), vec3(2.0f), vec3(3.0f)};  // rows: (0 1) over (2 3)
+    Texture t(2, 2, 1, Texture::Encoding::Linear, {0, 85, 170, 255});  // rows: (0 1) over (2 3), in thirds
     t.wrap_s = t.wrap_t = Texture::Wrap::ClampToEdge;
-    EXPECT_FLOAT_EQ(t.sample({0.5f, 0.5f}).x, 1.5f);
-    EXPECT_FLOAT_EQ(t.sample({0.25f, 0.5f}).x, 1.0f);   // between rows, in column 0
-    EXPECT_FLOAT_EQ(t.sample({0.75f, 0.25f}).x, 1.0f);  // row 0 (v = 0 is the top), column 1
-    EXPECT_FLOAT_EQ(t.sample({0.625f, 0.375f}).x, 1.25f);  // rows give 0.75 and 2.75, a quarter apart
+    const auto at2 = [&](vec2 uv) { return 3.0f * t.sample(uv).x; };
+    EXPECT_FLOAT_EQ(at2({0.5f, 0.5f}), 1.5f);
+    EXPECT_FLOAT_EQ(at2({0.25f, 0.5f}), 1.0f);   // between rows, in column 0
+    EXPECT_FLOAT_EQ(at2({0.75f, 0.25f}), 1.0f);  // row 0 (v = 0 is the top), column 1
+    EXPECT_FLOAT_EQ(at2({0.625f, 0.375f}), 1.25f);  // rows give 0.75 and 2.75, a quarter apart
 }
 
 TEST(MaterialTexture, RepeatWrapsAcrossTheEdge) {
@@ -78,7 +74,7 @@ TEST(MaterialTexture, HostileCoordinatesStayInsideTheImage) {
             EXPECT_LE(v, 3.0f) << u;
         }
     }
-    EXPECT_EQ(Texture().sample({0.5f, 0.5f}), vec3(1.0f));  // an empty texture leaves the colour alone
+    EXPECT_EQ(Texture().sample({0.5f, 0.5f}), glm::vec4(1.0f));  // an empty texture leaves the colour alone
 }
 
 TEST(MaterialTexture, SrgbDecodingMatchesTheStandard) {

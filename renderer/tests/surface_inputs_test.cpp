@@ -163,7 +163,9 @@ TEST(SurfaceInputs, OcclusionDarkensTheRigsFillOnly) {
         }
         if (occlusion < 1.0f) {
             copy.texcoords.assign(copy.positions.size(), vec2(0.5f));
-            copy.textures.push_back({1, 1, {vec3(occlusion)}});
+            // A linear 8-bit grey: 0.6 is code 153 exactly.
+            copy.textures.push_back(
+                Texture(1, 1, 1, Texture::Encoding::Linear, {uint8_t(std::lround(occlusion * 255.0f))}));
             copy.materials[m].occlusion_texture.index = 0;
         }
         const Accelerator accel(copy, 1);
@@ -173,8 +175,8 @@ TEST(SurfaceInputs, OcclusionDarkensTheRigsFillOnly) {
     const float both = render(1.0f, false), fill = render(1.0f, true);
     ASSERT_GT(fill, 0.0f);
     ASSERT_GT(both, fill);  // the key lights the point too
-    EXPECT_NEAR(render(0.5f, true), 0.5f * fill, 1e-5f);
-    EXPECT_NEAR(render(0.5f, false), both - 0.5f * fill, 1e-5f);
+    EXPECT_NEAR(render(0.6f, true), 0.6f * fill, 1e-5f);
+    EXPECT_NEAR(render(0.6f, false), both - 0.4f * fill, 1e-5f);
 }
 
 }  // namespace

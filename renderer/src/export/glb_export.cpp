@@ -25,6 +25,7 @@ constexpr int kTriangles = 4;
 constexpr int kArrayBuffer = 34962;
 constexpr int kElementArrayBuffer = 34963;
 constexpr int kLinear = 9729;
+constexpr int kLinearMipmapLinear = 9987;
 
 // The UV sphere standing in for an analytic sphere: enough facets for a round
 // outline in the viewer, few enough to keep the file small.
@@ -117,6 +118,7 @@ class GlbExporter {
     std::string bin_;
     std::vector<int> texture_indices_;  // scene texture -> glTF texture, -1 until used
     bool emissive_strength_ = false;  // some material needs KHR_materials_emissive_strength
+    bool texture_transform_ = false;  // some texture reference needs KHR_texture_transform
 };
 
 int GlbExporter::add_view(const void* data, size_t bytes, int target) {
@@ -170,9 +172,10 @@ int GlbExporter::add_texture(int scene_texture) {
     const Texture& texture = scene_.textures[size_t(scene_texture)];
     const std::vector<unsigned char> png = encode_png(texture);
     doc_["images"].push_back({{"bufferView", add_view(png.data(), png.size(), 0)}, {"mimeType", "image/png"}});
-    // Bilinear and without mipmaps, as the renderer samples it.
+    // Trilinear, as the renderer samples it (its ray cones pick the level
+    // where the viewer's GPU uses screen-space derivatives).
     doc_["samplers"].push_back({{"magFilter", kLinear},
-                                {"minFilter", kLinear},
+                                {"minFilter", kLinearMipmapLinear},
                                 {"wrapS", wrap_mode(texture.wrap_s)},
                                 {"wrapT", wrap_mode(texture.wrap_t)}});
     doc_["textures"].push_back({{"sampler", doc_["samplers"].size() - 1}, {"source", doc_["images"].size() - 1}});
@@ -187,6 +190,14 @@ bool GlbExporter::has_texture(const TextureRef& ref) const {
 Json GlbExporter::texture_info(const TextureRef& ref) {
     Json info = {{"index", add_texture(ref.index)}};
     if (ref.texcoord != 0) info["texCoord"] = ref.texcoord;
+    if (!ref.transform.identity()) {
+        const TextureTransform& t = ref.transform;
+        info["extensions"]["KHR_texture_transform"] = {
+            {"offset", {t.offset.x, t.offset.y}}, {"rotation", t.rotation}, {"scale", {t.scale.x, t.scale.y}}};
+        // three.js reads the transform's own texCoord, not the textureInfo's, when it has one.
+        if (ref.texcoord != 0) info["extensions"]["KHR_texture_transform"]["texCoord"] = ref.texcoord;
+        texture_transform_ = true;
+    }
     return info;
 }
 
@@ -247,6 +258,7 @@ void GlbExporter::add_materials() {
         for (const char* extension : {"KHR_materials_transmission", "KHR_materials_ior"})
             doc_["extensionsUsed"].push_back(extension);
     if (emissive_strength_) doc_["extensionsUsed"].push_back("KHR_materials_emissive_strength");
+    if (texture_transform_) doc_["extensionsUsed"].push_back("KHR_texture_transform");
 }
 
 void GlbExporter::add_mesh() {

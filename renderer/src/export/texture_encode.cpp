@@ -1,6 +1,5 @@
 #include "export/texture_encode.h"
 
-#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -9,27 +8,23 @@
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #include <stb_image_write.h>
 
-#include "image/image.h"
-
 namespace rt {
 
 std::vector<unsigned char> encode_png(const Texture& texture) {
-    const size_t texels = size_t(texture.width) * size_t(texture.height);
-    if (texture.width <= 0 || texture.height <= 0 || texture.texels.size() != texels)
+    if (texture.levels.empty() || texture.channels < 1 || texture.channels > 4 ||
+        texture.levels[0].texels.size() != size_t(texture.width) * size_t(texture.height) * size_t(texture.channels))
         throw std::invalid_argument("encode_png(): a " + std::to_string(texture.width) + "x" +
-                                    std::to_string(texture.height) + " texture holds " +
-                                    std::to_string(texture.texels.size()) + " texels");
-    std::vector<unsigned char> srgb(3 * texels);
-    for (size_t i = 0; i < texels; ++i)
-        for (int c = 0; c < 3; ++c)
-            srgb[3 * i + c] = (unsigned char)std::lround(linear_to_srgb(texture.texels[i][c]) * 255.0f);
-
+                                    std::to_string(texture.height) + " texture of " +
+                                    std::to_string(texture.channels) + " channels without its texels");
+    // The stored codes are the file's: sRGB or linear, as the material slot reads them.
+    const std::vector<uint8_t>& texels = texture.levels[0].texels;
     std::vector<unsigned char> png;
     const auto append = [](void* context, void* data, int size) {
         auto* out = static_cast<std::vector<unsigned char>*>(context);
         out->insert(out->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
     };
-    if (!stbi_write_png_to_func(append, &png, texture.width, texture.height, 3, srgb.data(), 3 * texture.width))
+    if (!stbi_write_png_to_func(append, &png, texture.width, texture.height, texture.channels, texels.data(),
+                                texture.channels * texture.width))
         throw std::runtime_error("encode_png(): stb_image_write failed on a " + std::to_string(texture.width) +
                                  "x" + std::to_string(texture.height) + " texture");
     return png;

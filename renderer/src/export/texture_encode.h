@@ -8,9 +8,9 @@
 
 namespace rt {
 
-// The texture as an 8-bit sRGB PNG, row 0 on top: each linear texel goes
-// through the sRGB transfer function and is rounded, so a texture decoded from
-// an 8-bit sRGB image encodes back to the very same values.
+// Level 0 of the texture as an 8-bit PNG of as many channels (grey, grey +
+// alpha, RGB, RGBA), row 0 on top: the very codes the texture was decoded
+// from, so decoding the PNG gives the same texture back.
 std::vector<unsigned char> encode_png(const Texture& texture);
 
 }  // namespace rt

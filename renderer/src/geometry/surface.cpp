@@ -4,6 +4,28 @@
 #include "geometry/triangle.h"
 
 namespace rt {
+namespace {
+
+// Twice the area of the uv triangle (a, b, c).
+float uv_area(vec2 a, vec2 b, vec2 c) {
+    const vec2 e1 = b - a, e2 = c - a;
+    return std::abs(e1.x * e2.y - e1.y * e2.x);
+}
+
+// The triangle's uv area per world area for each texture coordinate set,
+// which turns a ray cone's width into texels (texture_lookup.h). Constant
+// over the triangle; `world_area` is twice its area, like uv_area's.
+void set_area_ratios(const Scene& scene, uvec3 tri, double world_area, SurfaceHit& s) {
+    if (!(world_area > 0.0)) return;
+    if (!scene.texcoords.empty())
+        s.uv_area_ratio = float(uv_area(scene.texcoords[tri.x], scene.texcoords[tri.y], scene.texcoords[tri.z]) /
+                                world_area);
+    if (!scene.texcoords1.empty())
+        s.uv1_area_ratio = float(uv_area(scene.texcoords1[tri.x], scene.texcoords1[tri.y], scene.texcoords1[tri.z]) /
+                                 world_area);
+}
+
+}  // namespace
 
 SurfaceHit surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
     SurfaceHit s;
@@ -41,6 +63,7 @@ SurfaceHit surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
     if (!scene.colors.empty())
         s.color = b0 * scene.colors[tri.x] + hit.u * scene.colors[tri.y] + hit.v * scene.colors[tri.z];
     s.material = scene.triangle_materials[hit.primitive];
+    if (!scene.textures.empty()) set_area_ratios(scene, tri, glm::length(area), s);
     return s;
 }
 

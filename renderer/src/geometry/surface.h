@@ -17,6 +17,14 @@ struct SurfaceHit {
     glm::vec4 color{1.0f};  // COLOR_0, white without
     uint32_t material = 0;
     float time = 0.0f;   // the shutter time of the ray that hit, for the rays spawned here
+    // The ray cone (integrator/ray_cone.h) of the ray that hit, which the
+    // integrator fills in and texture lookups filter by: zero width reads
+    // level 0. The area ratios are the triangle's, for its level of detail.
+    float cone_width = 0.0f;      // the cone's width at p
+    float cone_spread = 0.0f;     // its spread angle, kept by the rays spawned here
+    float cos_incidence = 1.0f;   // |cos| between the ray and ng: the footprint stretches by its inverse
+    float uv_area_ratio = 0.0f;   // |Δuv| / |Δworld| of the triangle for TEXCOORD_0 (uv area per world area)
+    float uv1_area_ratio = 0.0f;  // the same for TEXCOORD_1
 };
 
 // The point is interpolated from the triangle's vertices with the barycentrics

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <string>
 
+#include "integrator/ray_cone.h"
 #include "util/math.h"
 #include "util/ray.h"
 #include "rt/render.pb.h"
@@ -28,6 +29,9 @@ class PinholeCamera {
     // is the top-left corner of the image, (width, height) the bottom-right. It
     // leaves at shutter time `time` in [0, 1], which a still camera only passes on.
     Ray generate_ray(float px, float py, float time = 0.0f) const;
+
+    // The ray cone of every ray generate_ray() makes: one pixel's angle.
+    RayCone ray_cone() const { return RayCone::camera(tan_y_, 1.0f / inv_height_); }
 
   private:
     struct Pose {

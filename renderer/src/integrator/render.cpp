@@ -28,6 +28,7 @@ Renderer::Renderer(const Accelerator& accel, RenderSettings settings, Camera cam
     : settings_(checked(std::move(settings))),
       camera_(checked(std::move(camera))),
       pinhole_(camera_, settings_.width(), settings_.height()),
+      cone_(pinhole_.ray_cone()),
       film_(settings_),
       stopping_(settings_.adaptive_threshold(), settings_.samples_per_pixel()),
       integrator_(accel, settings_) {
@@ -146,13 +147,13 @@ vec3 Renderer::render_pixel(uint32_t x, uint32_t y, size_t index, const AuxLayer
     // One test per pixel keeps the colour-only path free of the outputs' work.
     if (aux.empty()) {
         return estimate_pixel(x, y, stats.samples, [&](const Ray& ray, const PixelSampler& sampler) {
-            return integrator_.radiance(ray, sampler, stats.rays);
+            return integrator_.radiance(ray, sampler, stats.rays, cone_);
         });
     }
     AuxPixel pixel;
     const vec3 c = estimate_pixel(x, y, stats.samples, [&](const Ray& ray, const PixelSampler& sampler) {
         AuxSample sample;
-        const vec3 radiance = integrator_.radiance(ray, sampler, stats.rays, sample);
+        const vec3 radiance = integrator_.radiance(ray, sampler, stats.rays, sample, cone_);
         pixel.add(sample);
         return radiance;
     });
@@ -200,7 +201,7 @@ DebugPath Renderer::debug_pixel(uint32_t x, uint32_t y) const {
     path.set_pixel_y(y);
     uint64_t samples = 0;
     const vec3 color = estimate_pixel(x, y, samples, [&](const Ray& ray, const PixelSampler& sampler) {
-        return integrator_.radiance(ray, sampler, path);
+        return integrator_.radiance(ray, sampler, path, cone_);
     });
     path.clear_color();
     path.add_color(color.r);

@@ -77,23 +77,23 @@ double closest_rays_bound(uint32_t max_depth, float min_contribution, uint32_t b
     return bound;
 }
 
-vec3 WhittedIntegrator::radiance(const Ray& ray, const PixelSampler& sampler, RayCounts& counts) const {
+vec3 WhittedIntegrator::radiance(const Ray& ray, const PixelSampler& sampler, RayCounts& counts, RayCone cone) const {
     CountingRecorder recorder{counts};
-    return trace(ray, PRIMARY, 0, vec3(1.0f), -1, sampler, recorder);
+    return trace(ray, cone, PRIMARY, 0, vec3(1.0f), -1, sampler, recorder);
 }
 
-vec3 WhittedIntegrator::radiance(const Ray& ray, const PixelSampler& sampler, RayCounts& counts,
-                                 AuxSample& aux) const {
+vec3 WhittedIntegrator::radiance(const Ray& ray, const PixelSampler& sampler, RayCounts& counts, AuxSample& aux,
+                                 RayCone cone) const {
     AuxRecorder recorder{counts, aux};
-    return trace(ray, PRIMARY, 0, vec3(1.0f), -1, sampler, recorder);
+    return trace(ray, cone, PRIMARY, 0, vec3(1.0f), -1, sampler, recorder);
 }
 
-vec3 WhittedIntegrator::radiance(const Ray& ray, const PixelSampler& sampler, DebugPath& path) const {
+vec3 WhittedIntegrator::radiance(const Ray& ray, const PixelSampler& sampler, DebugPath& path, RayCone cone) const {
     const Bounds3 bounds = scene_.bounds();
     const float extent = bounds.empty() ? 1.0f : glm::length(bounds.extent());
     const float reach = bounds.empty() ? 1.0f : glm::length(bounds.center() - ray.origin);
     DebugRecorder recorder{path, reach + extent};
-    const vec3 color = trace(ray, PRIMARY, 0, vec3(1.0f), -1, sampler, recorder);
+    const vec3 color = trace(ray, cone, PRIMARY, 0, vec3(1.0f), -1, sampler, recorder);
     set_vec3(path.mutable_color(), color);
     return color;
 }
@@ -115,7 +115,7 @@ int WhittedIntegrator::nearest_light(const Ray& ray, float& t) const {
 }
 
 template <class Recorder>
-vec3 WhittedIntegrator::trace(const Ray& ray, RayKind kind, uint32_t depth, vec3 weight, int parent,
+vec3 WhittedIntegrator::trace(const Ray& ray, RayCone cone, RayKind kind, uint32_t depth, vec3 weight, int parent,
                               const PixelSampler& sampler, Recorder& recorder) const {
     Hit hit;
     const int segment = recorder.closest(accel_, ray, kind, depth, parent, weight, hit);
@@ -132,6 +132,9 @@ vec3 WhittedIntegrator::trace(const Ray& ray, RayKind kind, uint32_t depth, vec3
     if (!hit.found()) return background_;
 
     SurfaceHit s = surface_at(scene_, ray, hit);
+    s.cone_width = cone.width_at(hit.t);
+    s.cone_spread = cone.spread;
+    s.cos_incidence = std::max(std::abs(glm::dot(ray.direction, s.ng)), 1e-6f);
     // Inside or outside is the authored normals' side (as face_viewer orients
     // them before it turns both towards the viewer and forgets it).
     const vec3 outward = glm::dot(s.ns, s.ng) < 0.0f ? -s.ng : s.ng;
@@ -192,7 +195,9 @@ vec3 WhittedIntegrator::follow(const SurfaceHit& s, vec3 direction, RayKind kind
     // spawn_ray offsets to the side `direction` leaves on: through the surface
     // for a refracted ray.
     const Ray ray = spawn_ray(s.p, s.p_error, s.ng, direction, s.time);
-    return local_weight * trace(ray, kind, depth + 1, path_weight, parent, sampler.bounce(depth + 1), recorder);
+    // The flat-mirror cone (ray_cone.h): as wide as the ray's was here, as open.
+    const RayCone cone{s.cone_width, s.cone_spread};
+    return local_weight * trace(ray, cone, kind, depth + 1, path_weight, parent, sampler.bounce(depth + 1), recorder);
 }
 
 template <class Recorder>

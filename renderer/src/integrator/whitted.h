@@ -16,6 +16,7 @@
 #include "util/ray.h"
 #include "rt/debug.pb.h"
 #include "rt/render.pb.h"
+#include "integrator/ray_cone.h"
 #include "integrator/sampler.h"
 #include "geometry/surface.h"
 #include "geometry/surface_material.h"
@@ -61,20 +62,22 @@ class WhittedIntegrator {
 
     // Linear RGB carried back along a camera ray. `sampler` gives the pixel
     // sample's light samples, so the result is the same whichever thread
-    // computes it.
-    vec3 radiance(const Ray& ray, const PixelSampler& sampler, RayCounts& counts) const;
+    // computes it. `cone` is the ray's footprint (ray_cone.h), which filters
+    // textures; without one they are read unfiltered (mip level 0).
+    vec3 radiance(const Ray& ray, const PixelSampler& sampler, RayCounts& counts, RayCone cone = {}) const;
 
     // The same, also reporting the primary hit's depth, normal and albedo and
     // the BVH traversal cost of every ray traced (aov.h).
-    vec3 radiance(const Ray& ray, const PixelSampler& sampler, RayCounts& counts, AuxSample& aux) const;
+    vec3 radiance(const Ray& ray, const PixelSampler& sampler, RayCounts& counts, AuxSample& aux,
+                  RayCone cone = {}) const;
 
     // The same, recording every ray it traces into `path` for the debugger.
-    vec3 radiance(const Ray& ray, const PixelSampler& sampler, DebugPath& path) const;
+    vec3 radiance(const Ray& ray, const PixelSampler& sampler, DebugPath& path, RayCone cone = {}) const;
 
   private:
     template <class Recorder>
-    vec3 trace(const Ray& ray, RayKind kind, uint32_t depth, vec3 weight, int parent, const PixelSampler& sampler,
-               Recorder& recorder) const;
+    vec3 trace(const Ray& ray, RayCone cone, RayKind kind, uint32_t depth, vec3 weight, int parent,
+               const PixelSampler& sampler, Recorder& recorder) const;
     // Follows a secondary ray of `kind` when its path weight can still show.
     template <class Recorder>
     vec3 follow(const SurfaceHit& s, vec3 direction, RayKind kind, vec3 local_weight, uint32_t depth, vec3 weight,

@@ -219,8 +219,8 @@ std::vector<SceneAdditions> check_document(std::string_view text, bool binary, c
             const std::string& id = extension.get_ref<const std::string&>();
             if (std::find(std::begin(kSupportedGltfExtensions), std::end(kSupportedGltfExtensions), id) ==
                 std::end(kSupportedGltfExtensions))
-                throw SceneError(name + ": requires the glTF extension " + in_quotes(id) +
-                                 ", which is not supported");
+                throw SceneError(name + ": requires the glTF extension " + in_quotes(id) + ", which is not supported" +
+                                 (id == "KHR_texture_basisu" ? std::string(": ") + kBasisuAdvice : std::string()));
         }
     }
     check_references(doc, "buffers", binary, folder, names);

@@ -85,10 +85,12 @@ uint32_t GltfMaterials::material(int index, const std::string& what) {
     if (!source.name.empty()) label.append(" ").append(in_quotes(source.name));
     read_dielectric(source, label, scene_, out);
     if (pbr.baseColorTexture.index >= 0)
-        out.base_color_texture.index = texture(pbr.baseColorTexture, name + ".pbrMetallicRoughness.baseColorTexture");
+        out.base_color_texture =
+            texture(pbr.baseColorTexture, name + ".pbrMetallicRoughness.baseColorTexture", Texture::Encoding::Srgb);
     if (pbr.metallicRoughnessTexture.index >= 0)
-        out.metallic_roughness_texture.index =
-            texture(pbr.metallicRoughnessTexture, name + ".pbrMetallicRoughness.metallicRoughnessTexture");
+        out.metallic_roughness_texture = texture(pbr.metallicRoughnessTexture,
+                                                 name + ".pbrMetallicRoughness.metallicRoughnessTexture",
+                                                 Texture::Encoding::Linear);
     read_surface(source, label, name, out);
 
     mapped = int(scene_.materials.size());
@@ -114,7 +116,7 @@ void GltfMaterials::read_surface(const tinygltf::Material& source, const std::st
     }
     out.emission = emission;
     if (source.emissiveTexture.index >= 0 && emission != vec3(0.0f))
-        out.emissive_texture.index = texture(source.emissiveTexture, name + ".emissiveTexture");
+        out.emissive_texture = texture(source.emissiveTexture, name + ".emissiveTexture", Texture::Encoding::Srgb);
 
     if (source.alphaMode == "MASK") out.alpha_mode = AlphaMode::Mask;
     else if (source.alphaMode == "BLEND") out.alpha_mode = AlphaMode::Blend;
@@ -134,28 +136,94 @@ void GltfMaterials::read_surface(const tinygltf::Material& source, const std::st
         info.index = occlusion.index;
         info.texCoord = occlusion.texCoord;
         info.extensions = occlusion.extensions;
-        out.occlusion_texture.index = texture(info, name + ".occlusionTexture");
+        out.occlusion_texture = texture(info, name + ".occlusionTexture", Texture::Encoding::Linear);
         out.occlusion_strength = float(std::clamp(occlusion.strength, 0.0, 1.0));
     }
 }
 
-int GltfMaterials::texture(const tinygltf::TextureInfo& info, const std::string& what) {
+TextureRef GltfMaterials::texture(const tinygltf::TextureInfo& info, const std::string& what,
+                                  Texture::Encoding encoding) {
     const auto fail = [&](const std::string& problem) { throw SceneError(name_ + ": " + problem); };
     const auto warn = [&](const std::string& problem) { scene_.warnings.push_back(name_ + ": " + problem); };
-    if (info.texCoord != 0) {
-        warn(what + " uses TEXCOORD_" + std::to_string(info.texCoord) + ", but only TEXCOORD_0 is read: ignored");
-        return -1;
+    TextureRef ref;
+    ref.texcoord = uint32_t(std::max(info.texCoord, 0));
+    read_texture_transform(info, what, ref);
+    if (ref.texcoord > 1) {
+        warn(what + " uses TEXCOORD_" + std::to_string(ref.texcoord) +
+             ", but only TEXCOORD_0 and TEXCOORD_1 are read: texture ignored");
+        return ref;
     }
-    if (size_t(info.index) >= model_.textures.size())
+    if (info.index < 0 || size_t(info.index) >= model_.textures.size())
         fail(what + " refers to texture " + std::to_string(info.index) + ", which does not exist");
-    const tinygltf::Texture& source = model_.textures[size_t(info.index)];
-    const std::string texture_name = at("textures", size_t(info.index));
-    if (source.source < 0) {
+    ref.index = texture_image(size_t(info.index), encoding);
+    return ref;
+}
+
+// KHR_texture_transform of a textureInfo into `ref`; one that is not numbers
+// is refused, naming the member.
+void GltfMaterials::read_texture_transform(const tinygltf::TextureInfo& info, const std::string& what,
+                                           TextureRef& ref) {
+    const auto found = info.extensions.find("KHR_texture_transform");
+    if (found == info.extensions.end()) return;
+    const std::string label = what + ".extensions.KHR_texture_transform";
+    const tinygltf::Value& transform = found->second;
+    if (!transform.IsObject()) throw SceneError(name_ + ": " + label + " is not an object");
+    const auto number = [&](const tinygltf::Value& value, const std::string& member) {
+        const double d = value.IsNumber() ? value.GetNumberAsDouble() : std::nan("");
+        if (!std::isfinite(d) || std::abs(d) > 1e30)
+            throw SceneError(name_ + ": " + label + "." + member + " is not a finite number");
+        return float(d);
+    };
+    const auto pair = [&](const char* member, vec2 fallback) {
+        if (!transform.Has(member)) return fallback;
+        const tinygltf::Value& value = transform.Get(member);
+        if (!value.IsArray() || value.ArrayLen() != 2)
+            throw SceneError(name_ + ": " + label + "." + member + " is not an array of 2 numbers");
+        return vec2(number(value.Get(0), member), number(value.Get(1), member));
+    };
+    ref.transform.offset = pair("offset", vec2(0.0f));
+    ref.transform.scale = pair("scale", vec2(1.0f));
+    if (transform.Has("rotation")) ref.transform.rotation = number(transform.Get("rotation"), "rotation");
+    if (transform.Has("texCoord")) {
+        const tinygltf::Value& set = transform.Get("texCoord");
+        if (!set.IsInt() || set.GetNumberAsInt() < 0)
+            throw SceneError(name_ + ": " + label + ".texCoord is not a set number (0, 1, ...)");
+        ref.texcoord = uint32_t(set.GetNumberAsInt());  // overrides the textureInfo's own, as the extension says
+    }
+}
+
+// The image a texture shows: EXT_texture_webp's when it has one (we read
+// WebP), else its `source`. A texture with only a KHR_texture_basisu (KTX2)
+// image is refused: no decoder for it ships with Debian, and a render without
+// the texture would not be the scene.
+int GltfMaterials::texture_source(const tinygltf::Texture& source, const std::string& texture_name) {
+    const auto extension_source = [&](const char* extension) {
+        const auto found = source.extensions.find(extension);
+        if (found == source.extensions.end()) return -2;
+        if (!found->second.IsObject() || !found->second.Has("source") || !found->second.Get("source").IsInt())
+            throw SceneError(name_ + ": " + texture_name + ".extensions." + extension +
+                             ".source is not an image index");
+        return found->second.Get("source").GetNumberAsInt();
+    };
+    if (const int webp = extension_source("EXT_texture_webp"); webp != -2) return webp;
+    if (source.source < 0 && extension_source("KHR_texture_basisu") != -2)
+        throw SceneError(name_ + ": " + texture_name + " has only a KHR_texture_basisu (KTX2) image, which the "
+                         "renderer cannot decode: " + kBasisuAdvice);
+    return source.source;
+}
+
+int GltfMaterials::texture_image(size_t index, Texture::Encoding encoding) {
+    const auto fail = [&](const std::string& problem) { throw SceneError(name_ + ": " + problem); };
+    const auto warn = [&](const std::string& problem) { scene_.warnings.push_back(name_ + ": " + problem); };
+    const tinygltf::Texture& source = model_.textures[index];
+    const std::string texture_name = at("textures", index);
+    const int image_index = texture_source(source, texture_name);
+    if (image_index < 0) {
         warn(texture_name + " has no image we can read (an extension's?): ignored");
         return -1;
     }
-    if (size_t(source.source) >= model_.images.size())
-        fail(texture_name + ".source refers to image " + std::to_string(source.source) + ", which does not exist");
+    if (size_t(image_index) >= model_.images.size())
+        fail(texture_name + " refers to image " + std::to_string(image_index) + ", which does not exist");
 
     Texture::Wrap wrap[2] = {Texture::Wrap::Repeat, Texture::Wrap::Repeat};
     if (source.sampler >= 0) {
@@ -175,13 +243,13 @@ int GltfMaterials::texture(const tinygltf::TextureInfo& info, const std::string&
             }
         }
     }
-    const auto key = std::make_tuple(source.source, int(wrap[0]), int(wrap[1]));
+    const auto key = std::make_tuple(image_index, int(wrap[0]), int(wrap[1]), int(encoding));
     if (const auto cached = textures_.find(key); cached != textures_.end()) return cached->second;
     int& mapped = textures_[key];
     mapped = -1;
 
-    const tinygltf::Image& image = model_.images[size_t(source.source)];
-    const std::string image_name = at("images", size_t(source.source));
+    const tinygltf::Image& image = model_.images[size_t(image_index)];
+    const std::string image_name = at("images", size_t(image_index));
     std::span<const unsigned char> bytes(image.image);
     if (image.bufferView >= 0) {
         // Checked before parsing (gltf_loader.cpp); checked again against the data.
@@ -199,7 +267,8 @@ int GltfMaterials::texture(const tinygltf::TextureInfo& info, const std::string&
         return mapped;
     }
     std::string problem;
-    std::optional<Texture> decoded = decode_texture(bytes, name_ + ": " + image_name, texel_budget_, problem);
+    std::optional<Texture> decoded =
+        decode_texture(bytes, name_ + ": " + image_name, encoding, texture_bytes_, problem);
     if (!decoded) {
         warn(image_name + " " + problem + ": texture ignored");
         return mapped;

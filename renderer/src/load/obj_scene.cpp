@@ -66,7 +66,7 @@ class ObjSceneBuilder {
     std::vector<dmat4> close_;                // where each motion puts its objects at shutter close
     std::vector<glm::dmat3> close_normals_;  // and their normals
     std::map<std::pair<std::string, bool>, int> textures_;  // (file, clamp) -> texture
-    size_t texel_budget_ = kMaxSceneTexels;
+    size_t texture_bytes_ = kMaxSceneTextureBytes;  // what the textures may still take
 };
 
 void ObjSceneBuilder::check_range(const std::vector<double>& values, size_t width, const char* kind) const {
@@ -119,7 +119,8 @@ int ObjSceneBuilder::texture(const std::string& file, bool clamp, const std::str
     const auto bytes = folder_.read(file, what);
     std::string problem = "not found";
     std::optional<Texture> decoded;
-    if (bytes) decoded = decode_texture(*bytes, name_ + ": " + what + " " + in_quotes(file), texel_budget_, problem);
+    if (bytes) decoded = decode_texture(*bytes, name_ + ": " + what + " " + in_quotes(file), Texture::Encoding::Srgb,
+                                        texture_bytes_, problem);
     if (!decoded) {
         loaded_.scene.warnings.push_back(name_ + ": " + what + " " + in_quotes(file) + " " + problem +
                                          ": texture ignored");

@@ -1,4 +1,4 @@
-// Image files decoded into the linear-RGB textures of material.h.
+// Image files decoded into the 8-bit textures of texture.h.
 #pragma once
 
 #include <cstddef>
@@ -11,20 +11,21 @@
 
 namespace rt {
 
-// The most texels the textures of one scene may hold together: at 12 bytes a
-// texel that is 768 MiB, and a limit on what a hostile file can make us allocate.
-inline constexpr size_t kMaxSceneTexels = size_t(1) << 26;
+// The most bytes the textures of one scene may hold together, mip levels
+// included: a limit on what a hostile file can make us allocate. As much as
+// 2^26 texels of linear float RGB took before textures were 8-bit; it holds
+// some 140 million RGBA texels with their mips (eight 4096x4096 maps).
+inline constexpr size_t kMaxSceneTextureBytes = size_t(768) << 20;
 
-// Decodes a PNG, JPEG, BMP or TGA image whose 8-bit colour values are sRGB
-// encoded (glTF base colour, MTL map_Kd) into linear texels; alpha is dropped.
-// The image's size is read from its header before anything is allocated: one
-// with more texels than `texel_budget` throws SceneError naming `what`, and the
-// budget shrinks by what the texture uses. Bytes that are no decodable image
+// Decodes a PNG, JPEG, BMP, TGA or WebP image into a texture of as many 8-bit
+// channels as the image has (16-bit PNGs are read at 8 bits) and builds its
+// mip chain; `encoding` says how its colour values are to be read (sRGB for
+// base colour and emission, linear for data maps). The image's size is read
+// from its header before anything is allocated: one whose texels and mips
+// would take more than `byte_budget` throws SceneError naming `what`, and the
+// budget shrinks by what the texture takes. Bytes that are no decodable image
 // give std::nullopt and the reason in `problem`.
 std::optional<Texture> decode_texture(std::span<const unsigned char> bytes, std::string_view what,
-                                      size_t& texel_budget, std::string& problem);
-
-// The sRGB transfer function undone: encoded value in [0, 1] to linear.
-float srgb_to_linear(float encoded);
+                                      Texture::Encoding encoding, size_t& byte_budget, std::string& problem);
 
 }  // namespace rt

@@ -37,7 +37,7 @@ SCENE_FORMATS = ("glb", "gltf", "obj")
 # What a scene's folder may hold: scene files, glTF buffers, OBJ materials, the
 # .rt.json sidecar, and the textures the renderer decodes. Other files in a zip
 # are left out (and named in the scene's warnings).
-KEPT_SUFFIXES = frozenset(SCENE_FORMATS + ("bin", "mtl", "json", "png", "jpg", "jpeg", "bmp", "tga"))
+KEPT_SUFFIXES = frozenset(SCENE_FORMATS + ("bin", "mtl", "json", "png", "jpg", "jpeg", "bmp", "tga", "webp"))
 _CHUNK = 1 << 20
 _MAX_NAME_BYTES = 255
 _MAX_PATH_BYTES = 1024
