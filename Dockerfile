@@ -6,6 +6,7 @@ FROM debian:bookworm AS renderer
 RUN apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
       cmake ninja-build g++ pkg-config python3 python3-venv python3-dev \
       libopenimageio-dev libglm-dev libtinygltf-dev libtinyobjloader-dev libstb-dev libwebp-dev nlohmann-json3-dev \
+      libdraco-dev libmeshoptimizer-dev \
       libprotobuf-dev protobuf-compiler libgtest-dev \
     && rm -rf /var/lib/apt/lists/*
 WORKDIR /src
@@ -30,7 +31,7 @@ RUN cd web && npm run build
 
 FROM debian:bookworm-slim
 RUN apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
-      python3 libopenimageio2.4 libprotobuf32 \
+      python3 libopenimageio2.4 libprotobuf32 libwebp7 libdraco7 libmeshoptimizer2d \
     && rm -rf /var/lib/apt/lists/*
 COPY --from=renderer /opt/venv /opt/venv
 COPY --from=renderer /src/build/rtrender /usr/local/bin/rtrender

@@ -8,10 +8,12 @@ VENV    := .venv
 PY      := $(VENV)/bin/python
 JOBS    ?= $(shell nproc)
 SCENES  := $(BUILD)/scenes
+# The per-feature glTFs of docs/gltf.md and the product-like model (tests only).
+ASSETS  := $(BUILD)/assets
 
 APT_PACKAGES := cmake ninja-build g++ ccache pkg-config git python3 python3-venv python3-dev \
   libopenimageio-dev libglm-dev libtinygltf-dev libtinyobjloader-dev libstb-dev libwebp-dev \
-  nlohmann-json3-dev libprotobuf-dev protobuf-compiler libgtest-dev libembree-dev \
+  libdraco-dev libmeshoptimizer-dev nlohmann-json3-dev libprotobuf-dev protobuf-compiler libgtest-dev libembree-dev \
   clang libclang-rt-14-dev
 
 CMAKE_FLAGS := -G Ninja -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=$(abspath $(PY)) \
@@ -72,6 +74,8 @@ build-fuzz: $(BUILD)/.deps
 
 samples: $(VENV)/.stamp
 	$(PY) renderer/samples/make_samples.py --out $(SCENES)
+	$(PY) renderer/samples/make_assets.py --out $(ASSETS)
+	$(PY) renderer/samples/compressed.py --scenes $(SCENES) --out $(ASSETS)
 
 test-cpp: build samples
 	cd $(BUILD)/renderer && ctest --output-on-failure -j $(JOBS)
@@ -124,6 +128,9 @@ bench: build samples
 	$(BUILD)/renderer/bvh_bench --scenes $(SCENES)
 	$(PY) renderer/bench/report_table.py --scenes $(SCENES) --rtrender $(BUILD)/rtrender --out $(BUILD)/bench
 	$(PY) tests/bench/service_bench.py --scenes $(SCENES) --rtrender $(BUILD)/rtrender
+	$(PY) renderer/bench/alpha_cost.py --assets $(ASSETS) --rtrender $(BUILD)/rtrender
+	$(PY) renderer/bench/product_memory.py
+	$(PY) tests/bench/compressed_load_bench.py --scenes $(SCENES) --out $(BUILD)/bench
 	$(MAKE) --no-print-directory fuzz FUZZ_SECONDS=$(BENCH_FUZZ_SECONDS)
 
 # The charts under docs/charts (PNG, CSV and Markdown each, an index.json the

@@ -185,7 +185,7 @@ struct Rays {
 // of its bounds), and shadow rays from where those rays hit.
 Rays make_rays(const Scene& scene, const Accelerator& accel, uint32_t size) {
     Rays rays;
-    const PinholeCamera camera(default_camera(scene), size, size);
+    const ViewCamera camera(default_camera(scene), size, size);
     for (uint32_t y = 0; y < size; ++y)
         for (uint32_t x = 0; x < size; ++x) rays.primary.push_back(camera.generate_ray(x + 0.5f, y + 0.5f));
     const Bounds3 bounds = scene.bounds();

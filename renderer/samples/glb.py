@@ -1,7 +1,8 @@
 """Writing and checking binary glTF 2.0 (.glb) files.
 
-GlbBuilder collects triangle meshes, metallic-roughness materials, one
-KHR_lights_punctual point light and perspective cameras into a single buffer;
+GlbBuilder collects triangle meshes (with any extra vertex attributes),
+metallic-roughness materials, images and textures, KHR_lights_punctual point
+lights and perspective cameras into a single buffer;
 validate_glb() re-reads the bytes and checks the structure the way a strict
 loader would (chunk layout, view and accessor bounds, POSITION min/max, index
 range), so a broken sample fails here rather than in the renderer.
@@ -62,14 +63,18 @@ class GlbBuilder:
         }
         self.bin = bytearray()
 
-    def _view(self, data: bytes, target: int) -> int:
+    def _view(self, data: bytes, target: int | None) -> int:
+        """A buffer view of `data`; `target` None for one that is no vertex or
+        index buffer (images, sparse parts, animation keys)."""
         self.bin.extend(b"\0" * (-len(self.bin) % 4))
-        self.gltf["bufferViews"].append(
-            {"buffer": 0, "byteOffset": len(self.bin), "byteLength": len(data), "target": target})
+        view = {"buffer": 0, "byteOffset": len(self.bin), "byteLength": len(data)}
+        if target is not None:
+            view["target"] = target
+        self.gltf["bufferViews"].append(view)
         self.bin.extend(data)
         return len(self.gltf["bufferViews"]) - 1
 
-    def _accessor(self, array: np.ndarray, kind: str, component: int, target: int,
+    def _accessor(self, array: np.ndarray, kind: str, component: int, target: int | None,
                   bounds: bool = False) -> int:
         accessor = {"bufferView": self._view(array.tobytes(), target), "componentType": component,
                     "count": int(array.shape[0]), "type": kind}
@@ -91,13 +96,45 @@ class GlbBuilder:
             "metallicFactor": float(metallic), "roughnessFactor": float(roughness)}})
         return len(self.gltf["materials"]) - 1
 
-    def mesh(self, name: str, positions, triangles, material: int, normals=None) -> int:
+    def add_material(self, material: dict) -> int:
+        """Any glTF material object, as given."""
+        self.gltf["materials"].append(material)
+        return len(self.gltf["materials"]) - 1
+
+    def image(self, data: bytes, mime_type: str = "image/png") -> int:
+        """An encoded image stored in the buffer."""
+        self.gltf.setdefault("images", []).append(
+            {"bufferView": self._view(data, None), "mimeType": mime_type})
+        return len(self.gltf["images"]) - 1
+
+    def texture(self, image: int, sampler: dict | None = None) -> int:
+        texture = {"source": image}
+        if sampler is not None:
+            self.gltf.setdefault("samplers", []).append(sampler)
+            texture["sampler"] = len(self.gltf["samplers"]) - 1
+        self.gltf.setdefault("textures", []).append(texture)
+        return len(self.gltf["textures"]) - 1
+
+    def use_extension(self, name: str, required: bool = False) -> None:
+        for key in ("extensionsUsed",) + (("extensionsRequired",) if required else ()):
+            listed = self.gltf.setdefault(key, [])
+            if name not in listed:
+                listed.append(name)
+
+    def mesh(self, name: str, positions, triangles, material: int, normals=None,
+             attributes: dict | None = None) -> int:
+        """A one-primitive mesh on its own root node. `attributes` maps further
+        semantics (TEXCOORD_0, COLOR_0, TANGENT...) to float arrays."""
         positions = np.ascontiguousarray(positions, dtype="<f4")
         indices = np.ascontiguousarray(triangles, dtype="<u4").reshape(-1)
-        attributes = {"POSITION": self._accessor(positions, "VEC3", FLOAT, ARRAY_BUFFER, True)}
+        extra = dict(attributes or {})
         if normals is not None:
-            normals = np.ascontiguousarray(normals, dtype="<f4")
-            attributes["NORMAL"] = self._accessor(normals, "VEC3", FLOAT, ARRAY_BUFFER)
+            extra = {"NORMAL": normals, **extra}
+        attributes = {"POSITION": self._accessor(positions, "VEC3", FLOAT, ARRAY_BUFFER, True)}
+        for semantic, values in extra.items():
+            values = np.ascontiguousarray(values, dtype="<f4")
+            kind = {2: "VEC2", 3: "VEC3", 4: "VEC4"}[values.shape[1]]
+            attributes[semantic] = self._accessor(values, kind, FLOAT, ARRAY_BUFFER)
         primitive = {"attributes": attributes, "material": material, "mode": 4,
                      "indices": self._accessor(indices, "SCALAR", UINT32, ELEMENT_ARRAY_BUFFER)}
         self.gltf["meshes"].append({"name": name, "primitives": [primitive]})

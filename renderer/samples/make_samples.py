@@ -73,7 +73,10 @@ def node_modules_current() -> bool:
         have = json.loads((NODE_MODULES / ".package-lock.json").read_text())["packages"]
     except (OSError, ValueError, KeyError):
         return False
-    wanted = {k: (v.get("version"), v.get("integrity")) for k, v in wanted.items() if k}
+    # Optional packages for other platforms (sharp's, under gltf-transform) are
+    # in the lock but never installed.
+    wanted = {k: (v.get("version"), v.get("integrity")) for k, v in wanted.items()
+              if k and not (v.get("optional") and k not in have)}
     have = {k: (v.get("version"), v.get("integrity")) for k, v in have.items() if k}
     return wanted == have and all((HERE / k / "package.json").is_file() for k in wanted)
 

@@ -26,7 +26,7 @@ const Camera kCamera = make_camera(vec3(0.0f), {0.0f, 0.0f, -1.0f}, 60.0f);
 
 // Where the camera's ray through film point f meets the plane z = -1.
 vec3 on_plane(vec2 f) {
-    const Ray ray = PinholeCamera(kCamera, kSize, kSize).generate_ray(f.x, f.y);
+    const Ray ray = ViewCamera(kCamera, kSize, kSize).generate_ray(f.x, f.y);
     return ray.at(-1.0f / ray.direction.z);
 }
 
@@ -91,7 +91,7 @@ TEST(AntiAliasing, EdgeErrorFallsFasterThanWithIndependentSamples) {
     RenderSettings settings = make_settings(kSize, kSize);
     settings.set_pixel_filter(BOX);
     const WhittedIntegrator integrator(accel, settings);
-    const PinholeCamera pinhole(kCamera, kSize, kSize);
+    const ViewCamera pinhole(kCamera, kSize, kSize);
     std::mt19937 random(7);
     std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
 
@@ -165,7 +165,7 @@ TEST(AntiAliasing, OneSampleIsThePixelCentreWhateverTheFilter) {
     const Image image = Renderer(accel, make_settings(w, h), camera).render(1, 8, nullptr, stats);
     EXPECT_EQ(stats.samples, uint64_t(w) * h);
     const WhittedIntegrator integrator(accel, make_settings(w, h));
-    const PinholeCamera pinhole(camera, w, h);
+    const ViewCamera pinhole(camera, w, h);
     for (uint32_t y = 0; y < h; ++y) {
         for (uint32_t x = 0; x < w; ++x) {
             RayCounts rays;

@@ -68,7 +68,7 @@ TEST(Aov, DepthOfAPlaneIsTheDistanceAlongEachRay) {
     const uint32_t w = 40, h = 30;
     const Renderer renderer(accel, make_settings(w, h), camera);
     const TileResult result = render_tile(renderer, {0, 0, w, h}, {DEPTH});
-    const PinholeCamera pinhole(camera, w, h);
+    const ViewCamera pinhole(camera, w, h);
     int hits = 0, misses = 0;
     for (uint32_t y = 0; y < h; ++y) {
         for (uint32_t x = 0; x < w; ++x) {
@@ -106,7 +106,7 @@ TEST(Aov, SeveralSamplesAverageTheLayersAndSumTheCost) {
     const Renderer renderer(accel, settings, camera);
     const TileResult result = render_tile(renderer, {0, 0, w, h}, {DEPTH, NORMAL, ALBEDO, BVH_COST});
     EXPECT_EQ(result.counts.samples, uint64_t(4) * w * h);
-    const PinholeCamera pinhole(camera, w, h);
+    const ViewCamera pinhole(camera, w, h);
     int edge_pixels = 0;
     for (uint32_t y = 0; y < h; ++y) {
         for (uint32_t x = 0; x < w; ++x) {
@@ -140,7 +140,7 @@ TEST(Aov, NormalsAreUnitAndFaceTheCameraAlbedoIsTheDiffuseColour) {
     const uint32_t w = 48, h = 36;
     const Renderer renderer(accel, make_settings(w, h), camera);
     const TileResult result = render_tile(renderer, {0, 0, w, h}, {NORMAL, ALBEDO});
-    const PinholeCamera pinhole(camera, w, h);
+    const ViewCamera pinhole(camera, w, h);
     int floor = 0, sphere = 0;
     for (uint32_t y = 0; y < h; ++y) {
         for (uint32_t x = 0; x < w; ++x) {

@@ -42,7 +42,7 @@ void check_floor(const Light& light, float inner, float outer, int (&regimes)[3]
     const Accelerator accel(scene, 1);
     const Camera camera = make_camera({0.0f, 6.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 90.0f, {0.0f, 0.0f, -1.0f});
     const Renderer renderer(accel, make_settings(41, 41), camera);
-    const PinholeCamera pinhole(camera, 41, 41);
+    const ViewCamera pinhole(camera, 41, 41);
     for (uint32_t y = 0; y < 41; y += 2) {
         for (uint32_t x = 0; x < 41; x += 2) {
             const Ray ray = pinhole.generate_ray(float(x) + 0.5f, float(y) + 0.5f);
@@ -178,11 +178,13 @@ TEST(LightKinds, ASceneWithoutLightsGetsTheDefaultRig) {
     RenderSettings settings = make_settings(16, 16);
     vec3 corner;
     EXPECT_GT(brightest(scene, settings, corner), 0.1f);
-    expect_vec3(corner, scene.rig_background);  // the sky where rays miss
-    EXPECT_GT(scene.rig_background.x, 0.0f);
+    ASSERT_TRUE(scene.rig_background.solid());
+    expect_vec3(corner, scene.rig_background.top);  // the sky where rays miss
+    EXPECT_GT(scene.rig_background.top.x, 0.0f);
     settings.set_light_rig(NO_RIG);
     EXPECT_EQ(brightest(scene, settings, corner), 0.0f);  // black: no light, a black background
-    expect_vec3(corner, scene.background);
+    EXPECT_TRUE(scene.background.black());
+    expect_vec3(corner, vec3(0.0f));
 }
 
 }  // namespace

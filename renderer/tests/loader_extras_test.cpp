@@ -35,7 +35,7 @@ TEST(LoaderExtras, SidecarAddsSpheresLightsBackgroundAndCameras) {
     expect_vec3(scene.lights[0].position, {0, 2, 2});
     expect_vec3(scene.lights[0].intensity, {10, 5, 5});  // colour times intensity
     EXPECT_FLOAT_EQ(scene.lights[0].radius, 0.1f);
-    expect_vec3(scene.background, {0.1f, 0.2f, 0.3f});
+    EXPECT_EQ(scene.background, Background(vec3(0.1f, 0.2f, 0.3f)));
 
     ASSERT_EQ(scene.cameras.size(), 1u);
     EXPECT_EQ(scene.cameras[0].name, "front");
@@ -88,7 +88,7 @@ TEST(LoaderExtras, SpotAndDirectionalLightsTakeTheirShape) {
 
 TEST(LoaderExtras, GltfExtrasOnTheAssetAndTheSceneAreMerged) {
     const Scene scene = load_scene(RT_TEST_DATA_DIR "/triangle.gltf");
-    expect_vec3(scene.background, vec3(0.5f));  // asset.extras.rt
+    EXPECT_EQ(scene.background, Background(vec3(0.5f)));  // asset.extras.rt
     ASSERT_EQ(scene.lights.size(), 1u);           // the KHR_lights_punctual lamp
     EXPECT_EQ(scene.lights[0].name, "lamp");
 
@@ -98,7 +98,7 @@ TEST(LoaderExtras, GltfExtrasOnTheAssetAndTheSceneAreMerged) {
     const Json sphere = {{"center", {0, 0, 0}}, {"radius", 2}};
     doc.json["scenes"][0]["extras"]["rt"] = {{"background", {0, 0, 1}}, {"spheres", {sphere}}};
     const Scene merged = load_text(doc.text(), "e.gltf");
-    expect_vec3(merged.background, {0, 0, 1});  // the scene's extras come after the asset's
+    EXPECT_EQ(merged.background, Background(vec3(0, 0, 1)));  // the scene's extras come after the asset's
     EXPECT_EQ(merged.spheres.size(), 1u);
 }
 

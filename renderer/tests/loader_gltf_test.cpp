@@ -318,8 +318,9 @@ TEST(LoaderGltf, ExternalBufferAndImageInsideTheFolderLoad) {
 
 TEST(LoaderGltf, UnsupportedRequiredExtensionIsRefusedByName) {
     GltfDoc doc = triangle_doc();
-    doc.json["extensionsRequired"] = {"KHR_draco_mesh_compression"};
-    EXPECT_TRUE(contains(scene_error([&] { load_text(doc.text(), "d.gltf"); }), "'KHR_draco_mesh_compression'"));
+    doc.json["extensionsRequired"] = {"KHR_materials_pbrSpecularGlossiness"};
+    EXPECT_TRUE(contains(scene_error([&] { load_text(doc.text(), "d.gltf"); }),
+                         "'KHR_materials_pbrSpecularGlossiness'"));
 }
 
 }  // namespace

@@ -138,8 +138,9 @@ TEST(LoaderHostile, StrideSmallerThanAnElementIsRefused) {
 
 TEST(LoaderHostile, UnsupportedComponentTypeIsNamed) {
     Triangle t;
-    t.doc.json["accessors"][0]["componentType"] = 5122;  // SHORT positions (KHR_mesh_quantization)
-    EXPECT_MENTIONS(t.error(), "POSITION (accessors[0]) has unsupported component type SHORT, expected FLOAT");
+    t.doc.json["accessors"][0]["componentType"] = 5124;  // INT, which not even KHR_mesh_quantization allows
+    EXPECT_MENTIONS(t.error(), "POSITION (accessors[0]) has unsupported component type INT, expected FLOAT or BYTE or "
+                               "UNSIGNED_BYTE or SHORT or UNSIGNED_SHORT");
     Triangle indices;
     indices.doc.json["accessors"][2]["componentType"] = 5126;
     EXPECT_MENTIONS(indices.error(), "indices (accessors[2]) has unsupported component type FLOAT");
@@ -157,12 +158,36 @@ TEST(LoaderHostile, UnknownPrimitiveModeIsRefused) {
     EXPECT_MENTIONS(odd.error(), "meshes[0].primitives[0] has 4 corners, not a multiple of 3");
 }
 
-TEST(LoaderHostile, SparseAccessorsAreRefused) {
-    Triangle t;
-    t.doc.json["accessors"][0]["sparse"] = {{"count", 1},
-                                            {"indices", {{"bufferView", 2}, {"componentType", 5125}}},
-                                            {"values", {{"bufferView", 0}}}};
-    EXPECT_MENTIONS(t.error(), "POSITION (accessors[0]) is sparse");
+TEST(LoaderHostile, SparseAccessorsAreChecked) {
+    // Sparse over POSITION: indices from the index view (0, 1, 2), values from the positions' view.
+    const auto sparse = [](int count, const std::string& indices_type = "UINT") {
+        Triangle t;
+        t.doc.json["accessors"][0]["sparse"] = {
+            {"count", count},
+            {"indices", {{"bufferView", 2}, {"componentType", indices_type == "UINT" ? 5125 : 5123}}},
+            {"values", {{"bufferView", 0}}}};
+        return t;
+    };
+    EXPECT_EQ(load_text(sparse(3).doc.text(), "h.gltf").positions.size(), 3u) << "a valid sparse accessor loads";
+    EXPECT_MENTIONS(sparse(4).error(), "h.gltf: meshes[0].primitives[0] POSITION (accessors[0]) has sparse.count 4, "
+                                       "which is not between 1 and its count 3");
+    EXPECT_MENTIONS(sparse(0).error(), "has sparse.count 0");
+    // As UNSIGNED_SHORT, the indices (0, 1, 2) read 0, 0, 1, 0, ...: not increasing.
+    EXPECT_MENTIONS(sparse(2, "USHORT").error(), "sparse.indices element 1 = 0 after 0: sparse indices must be "
+                                                 "strictly increasing");
+    Triangle range = sparse(1);
+    range.doc.add_indices({3});  // bufferViews[3]
+    range.doc.json["accessors"][0]["sparse"]["indices"]["bufferView"] = 3;
+    EXPECT_MENTIONS(range.error(), "sparse.indices element 0 = 3, out of range: the accessor has 3 elements");
+    Triangle values = sparse(2);
+    values.doc.json["accessors"][0]["sparse"]["values"]["byteOffset"] = 24;
+    EXPECT_MENTIONS(values.error(), "sparse.values has 2 elements from byteOffset 24, which reach past the end of "
+                                    "bufferViews[0] (36 bytes)");
+    Triangle huge;
+    huge.doc.json["accessors"][1].erase("bufferView");
+    huge.doc.json["accessors"][1]["count"] = uint64_t(1) << 40;
+    EXPECT_MENTIONS(huge.error(), "NORMAL (accessors[1]) has 1099511627776 elements without a bufferView: held in "
+                                  "memory they would take more than the limit of 256 MiB");
 }
 
 TEST(LoaderHostile, NodeCyclesAndSharedChildrenAreRefused) {
@@ -268,11 +293,19 @@ TEST(LoaderHostile, HugeImageIsRefusedFromItsHeader) {
     EXPECT_TRUE(has_warning(scene, "images[0] is not a PNG, JPEG, BMP, TGA or WebP image"));
 }
 
-TEST(LoaderHostile, NonNormalizedIntegerTexcoordsAreRefused) {
+TEST(LoaderHostile, IntegerAttributesOutsideKhrMeshQuantizationAreRefused) {
+    // Unnormalized integer texture coordinates are allowed (KHR_mesh_quantization); BYTE colours are not.
     Triangle t;
-    t.primitive()["attributes"]["TEXCOORD_0"] = t.doc.add_accessor(std::vector<uint8_t>(8, 0), 5121, "VEC2", 2);
-    t.doc.json["accessors"].back()["count"] = 3;
-    EXPECT_MENTIONS(t.error(), "TEXCOORD_0 has integer components that are not normalized");
+    t.primitive()["attributes"]["TEXCOORD_0"] = t.doc.add_accessor(std::vector<uint8_t>{0, 0, 7, 0, 0, 9}, 5121,
+                                                                    "VEC2", 2);
+    EXPECT_EQ(load_text(t.doc.text(), "h.gltf").texcoords[1], vec2(7, 0));
+    t.primitive()["attributes"]["COLOR_0"] = t.doc.add_accessor(std::vector<int8_t>(12, 0), 5120, "VEC4", 4);
+    EXPECT_MENTIONS(t.error(), "COLOR_0 (accessors[4]) has unsupported component type BYTE, expected FLOAT or "
+                               "UNSIGNED_BYTE or UNSIGNED_SHORT");
+    Triangle tangent;
+    tangent.primitive()["attributes"]["TANGENT"] = tangent.doc.add_accessor(std::vector<int16_t>(12, 1), 5122,
+                                                                            "VEC4", 4);
+    EXPECT_MENTIONS(tangent.error(), "TANGENT (accessors[3]) has SHORT components that are not normalized");
 }
 
 TEST(LoaderHostile, ObjNonFiniteCoordinatesAreRefused) {

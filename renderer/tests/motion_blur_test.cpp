@@ -37,7 +37,7 @@ vec3 lerp_field(const google::protobuf::RepeatedField<float>& open, const google
     return lerp_position(vec3(open[0], open[1], open[2]), vec3(close[0], close[1], close[2]), time);
 }
 
-// The camera as it stands at `time`, still: the pose interpolated as PinholeCamera does.
+// The camera as it stands at `time`, still: the pose interpolated as ViewCamera does.
 Camera camera_at(const Camera& moving, float time) {
     const CameraPose& close = moving.shutter_close();
     return make_camera(lerp_field(moving.position(), close.position(), time),
@@ -231,7 +231,7 @@ TEST(MotionBlur, DebugPathsFollowTheRendersTimes) {
 TEST(MotionBlur, CameraPosesAreCheckedAtBothEndsAndInBetween) {
     const auto problem = [](const Camera& camera) {
         try {
-            PinholeCamera(camera, 8, 8);
+            ViewCamera(camera, 8, 8);
         } catch (const std::invalid_argument& e) {
             return std::string(e.what());
         }
@@ -252,8 +252,8 @@ TEST(MotionBlur, CameraPosesAreCheckedAtBothEndsAndInBetween) {
                                "shutter time 0.500000)");
     close.set_target(2, -2.0f);
     EXPECT_EQ(problem(camera), "accepted");
-    EXPECT_TRUE(PinholeCamera(camera, 8, 8).moving());
-    EXPECT_FALSE(PinholeCamera(look_shift(still, 0.0f), 8, 8).moving());
+    EXPECT_TRUE(ViewCamera(camera, 8, 8).moving());
+    EXPECT_FALSE(ViewCamera(look_shift(still, 0.0f), 8, 8).moving());
 
     // The schema's limits apply as to the pose at shutter open.
     Camera partial = still;

@@ -33,7 +33,7 @@ TEST(Render, NoSelfShadowingAtAnyScale) {
         // Every floor pixel outside the sphere's shadow must receive light: a
         // fixed epsilon makes some of them shadow themselves at small scales.
         const Accelerator accel(scene, 1);
-        const PinholeCamera pinhole(camera, w, h);
+        const ViewCamera pinhole(camera, w, h);
         int self_shadowed = 0, lit = 0;
         for (uint32_t y = 0; y < h; ++y) {
             for (uint32_t x = 0; x < w; ++x) {

@@ -20,7 +20,7 @@ TEST(Shading, LambertianPlaneMatchesTheClosedForm) {
     const Accelerator accel(scene, 1);
     const Camera camera = make_camera({0.0f, 5.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, 60.0f, {0.0f, 0.0f, -1.0f});
     const Renderer renderer(accel, make_settings(32, 32), camera);
-    const PinholeCamera pinhole(camera, 32, 32);
+    const ViewCamera pinhole(camera, 32, 32);
     for (uint32_t y = 0; y < 32; y += 5) {
         for (uint32_t x = 0; x < 32; x += 5) {
             const Ray ray = pinhole.generate_ray(float(x) + 0.5f, float(y) + 0.5f);

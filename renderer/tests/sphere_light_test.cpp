@@ -52,7 +52,7 @@ RenderSettings light_settings(uint32_t size, LightSampling method, uint32_t ligh
 // sin^2(theta_max) cos(beta) = pi L (r / D)^2 (h / D) with L = I / (pi r^2),
 // which is I h / D^3; under the light, pi L (r / h)^2.
 std::vector<float> closed_form(uint32_t size) {
-    const PinholeCamera pinhole(kDown, size, size);
+    const ViewCamera pinhole(kDown, size, size);
     std::vector<float> e;
     for (uint32_t y = 0; y < size; ++y) {
         for (uint32_t x = 0; x < size; ++x) {

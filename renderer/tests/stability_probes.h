@@ -61,7 +61,7 @@ struct ShadowTally {
 // accelerator and surface code.
 inline std::vector<ShadowTally> tally_shadow_rays(const ShadowScene& shadow, uint32_t size) {
     const Accelerator accel(shadow.scene, 1);
-    const PinholeCamera camera(shadow.camera, size, size);
+    const ViewCamera camera(shadow.camera, size, size);
     std::vector<ShadowTally> tallies(std::size(kShadowOrigins));
     for (uint32_t y = 0; y < size; ++y) {
         for (uint32_t x = 0; x < size; ++x) {

@@ -117,6 +117,44 @@ TEST(SurfaceInputs, EmissionIsSeenDirectlyAndInMirrors) {
     EXPECT_NEAR(render_pixel(behind, 0, 0).x, 1.0f, 1e-5f);
 }
 
+TEST(SurfaceInputs, AnUnlitSurfaceShowsItsBaseColourWhateverLightsIt) {
+    // KHR_materials_unlit: the card shows base colour × vertex colour under a
+    // bright sun, in the dark, and in its own shadow alike; the floor under it
+    // is still shadowed by it.
+    CardScene lit(AlphaMode::Opaque, 1.0f, 1.0f);
+    Material& card = lit.scene.materials[lit.card_material];
+    card.metallic_roughness = true;
+    card.base_color = vec3(0.25f, 0.5f, 0.75f);
+    card.unlit = true;
+    const vec3 expected = card.base_color;
+    CardScene dark = lit;
+    dark.scene.lights.clear();
+    for (Scene* scene : {&lit.scene, &dark.scene}) {
+        const Accelerator accel(*scene, 1);
+        const Renderer renderer(accel, make_settings(4, 4), lit.camera());
+        const vec3 got = render_pixel(renderer, 2, 2);
+        EXPECT_NEAR(got.x, expected.x, 1e-5f);
+        EXPECT_NEAR(got.y, expected.y, 1e-5f);
+        EXPECT_NEAR(got.z, expected.z, 1e-5f);
+    }
+    SurfaceHit s;
+    s.material = lit.card_material;
+    s.color = glm::vec4(0.5f, 1.0f, 1.0f, 1.0f);
+    const SurfaceMaterial sm = surface_material(lit.scene, card, s);
+    EXPECT_EQ(sm.diffuse, vec3(0.0f));
+    EXPECT_EQ(sm.specular, vec3(0.0f));
+    EXPECT_NEAR(sm.emission.x, 0.125f, 1e-6f);
+    // The floor beside the card is in full sun; under it, in the card's shadow.
+    const Accelerator accel(lit.scene, 1);
+    const auto floor_at = [&](float x) {
+        const Renderer below(accel, make_settings(1, 1),
+                             make_camera({x, 0.5f, 0.0f}, {x, 0.0f, 0.0f}, 10.0f, {0.0f, 0.0f, -1.0f}));
+        return render_pixel(below, 0, 0).x;
+    };
+    EXPECT_NEAR(floor_at(5.0f), 1.0f, 1e-3f);
+    EXPECT_NEAR(floor_at(0.0f), 0.0f, 1e-6f);
+}
+
 TEST(SurfaceInputs, VertexColoursMultiplyTheBaseColour) {
     Scene scene;
     const uint32_t m = add_material(scene, vec3(0.8f));

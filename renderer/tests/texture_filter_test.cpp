@@ -53,7 +53,7 @@ TEST(TextureFilter, RayConesRemoveTheFarFieldsMoire) {
     RenderSettings settings = make_settings(kWidth, kHeight);
     settings.set_max_depth(0);
     const WhittedIntegrator integrator(accel, settings);
-    const PinholeCamera pinhole(kCamera, kWidth, kHeight);
+    const ViewCamera pinhole(kCamera, kWidth, kHeight);
     const RayCone cone = pinhole.ray_cone();
     RayCounts rays;
 
@@ -103,7 +103,7 @@ TEST(TextureFilter, NearTexelsStaySharp) {
     RenderSettings settings = make_settings(64, 64);
     settings.set_max_depth(0);
     const WhittedIntegrator integrator(accel, settings);
-    const PinholeCamera pinhole(down, 64, 64);
+    const ViewCamera pinhole(down, 64, 64);
     RayCounts rays;
     for (uint32_t y = 0; y < 64; y += 7)
         for (uint32_t x = 0; x < 64; x += 5) {

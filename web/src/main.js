@@ -7,6 +7,7 @@ import { DebugPanel } from "./debug-panel.js";
 import { ImageLayers } from "./heatmap.js";
 import { isFinal, JobFollower } from "./job-follower.js";
 import { JobPanel, stateOf } from "./job-panel.js";
+import { ProjectionControl } from "./projection-control.js";
 import { Router } from "./router.js";
 import { ScenesPanel } from "./scenes-panel.js";
 import { SettingsPanel } from "./settings-panel.js";
@@ -43,10 +44,16 @@ viewer.setAspect(settings.aspect);
 settings.addEventListener("aspect", (e) => viewer.setAspect(e.detail));
 settings.addEventListener("fov", (e) => viewer.setFov(e.detail));
 settings.addEventListener("lightRig", (e) => viewer.showLightRig(e.detail));
-viewer.addEventListener("camerachange", () => settings.showFov(viewer.camera.fov));
+// The view draws the background the job will get; the panel's pickers start at the scene's.
+settings.addEventListener("background", (e) => viewer.setBackground(e.detail));
+viewer.addEventListener("scenebackground", (e) => settings.background.setSceneBackground(e.detail));
+viewer.addEventListener("camerachange", () => settings.showFov(viewer.fov));
 viewer.renderer.domElement.addEventListener("pointerdown", () => { cameraSelect.value = ""; });
 viewer.renderer.domElement.addEventListener("wheel", () => { cameraSelect.value = ""; }, { passive: true });
-settings.showFov(viewer.camera.fov);
+settings.showFov(viewer.fov);
+// Switching the projection leaves the scene camera, as orbiting does.
+const projection = new ProjectionControl(document, viewer);
+projection.addEventListener("change", () => { cameraSelect.value = ""; });
 
 function fillCameras(info) {
   const options = [["", "Free view (orbit)"], ["default", "Default camera (whole scene)"],
@@ -234,5 +241,5 @@ async function start() {
 }
 
 // For the console and the browser tests: the live objects, read-only by convention.
-window.rt = { viewer, settings, shutter, scenes, jobPanel, tiles, follower, overlay, layers, debug, router, state };
+window.rt = { viewer, settings, projection, shutter, scenes, jobPanel, tiles, follower, overlay, layers, debug, router, state };
 start();

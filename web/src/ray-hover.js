@@ -82,9 +82,8 @@ export class RayHover extends EventTarget {
     if (!this.rays.path) return -1;
     const camera = this.viewer.camera;
     this.raycaster.setFromCamera(this.viewer.ndc(event), camera);
-    // About 6 CSS pixels at the orbit target's distance.
-    const distance = camera.position.distanceTo(this.viewer.controls.target);
-    const pixel = (2 * distance * Math.tan(THREE.MathUtils.degToRad(camera.fov) / 2)) / this.viewer.renderer.domElement.clientHeight;
+    // About 6 CSS pixels at the orbit target's distance (at any, in an orthographic view).
+    const pixel = this.viewer.viewHeight / this.viewer.renderer.domElement.clientHeight;
     this.raycaster.params.Line.threshold = pixel * 6;
     return this.rays.pick(this.raycaster);
   }

@@ -2,8 +2,10 @@
 // numeric field of rt.RenderSettings with its rt.limits default and range, a
 // choice for every enum field (its zero value first, the proto default), a
 // checkbox for every rt.AuxOutput, and the view's field of view (rt.Camera.fov_y).
-// A setting added to render.proto appears here with no change to this file.
+// A setting added to render.proto appears here with no change to this file; the
+// background's list and message fields have a control of their own.
 import { ScalarType } from "@bufbuild/protobuf";
+import { BackgroundControl } from "./background-control.js";
 import { enumChoices, limitsOf, schema } from "./proto.js";
 
 const INTEGER_SCALARS = new Set([ScalarType.INT32, ScalarType.UINT32, ScalarType.SINT32, ScalarType.FIXED32,
@@ -97,6 +99,8 @@ export class SettingsPanel extends EventTarget {
       this.inputs.set(field.localName, input);
       input.addEventListener("input", () => this._changed(field.localName));
     }
+    this.background = new BackgroundControl(settings);
+    this.background.addEventListener("change", (e) => this.dispatchEvent(new CustomEvent("background", { detail: e.detail })));
     const fovField = schema("Camera").fields.find((f) => f.name === "fov_y");
     this.fov = this._field(settings, fovField, "camera", "Field of view (vertical, °)");
     this.fov.addEventListener("input", () => {
@@ -160,7 +164,7 @@ export class SettingsPanel extends EventTarget {
   settings() {
     const out = {};
     for (const [name, input] of this.inputs) out[name] = Number(input.value);
-    return out;
+    return { ...out, ...this.background.settings() };
   }
 
   /** The chosen rt.AuxOutput numbers. */
@@ -174,6 +178,7 @@ export class SettingsPanel extends EventTarget {
       if (settings[name] !== undefined) input.value = String(settings[name]);
     }
     for (const [value, box] of this.outputs) box.checked = outputs.includes(value);
+    this.background.show(settings);
     this.interactive.checked = interactive;
     this.dispatchEvent(new CustomEvent("aspect", { detail: this.aspect }));
     this.dispatchEvent(new CustomEvent("lightRig", { detail: this.rigOn }));

@@ -4,7 +4,9 @@
 import * as THREE from "three";
 import { OrbitControls } from "three/addons/controls/OrbitControls.js";
 import { GLTFLoader } from "three/addons/loaders/GLTFLoader.js";
+import { SkyBackground, glbBackgrounds } from "./background.js";
 import { InteractiveLod } from "./lod.js";
+import { copyPose, fitAspect, perspectivePosition, setOrthoHeight, viewHeight } from "./view-projection.js";
 
 const LIGHT_COLOR = 0xffd24a;
 const SPHERE_GIZMO_COLOR = 0x5ad1ff;
@@ -49,9 +51,18 @@ export class Viewer extends EventTarget {
     container.appendChild(this.renderer.domElement);
 
     this.scene = new THREE.Scene();
-    this.scene.background = new THREE.Color(0x15171c);
+    // What the render shows where rays miss: the scene's background (model.glb),
+    // or the settings' (setBackground); dark grey until a scene is shown.
+    this.sky = new SkyBackground();
+    this.sceneBackgrounds = { own: null, rig: null };
+    this.backgroundOverride = null;
+    this.scene.add(this.sky.mesh);
+    this._showBackground();
     this.camera = new THREE.PerspectiveCamera(45, this.aspect, 0.01, 1000);
     this.camera.position.set(0, 1, 4);
+    // this.camera is one of the two; the perspective one keeps the field of view meanwhile.
+    this.perspective = this.camera;
+    this.orthoCamera = null;
     // No lights of its own: the view is lit by model.glb's KHR_lights_punctual
     // lights, the render's (the default rig when the scene has none), without
     // shadows or reflections.
@@ -106,8 +117,7 @@ export class Viewer extends EventTarget {
       w = Math.round(ch * this.aspect);
     }
     this.renderer.setSize(w, h);
-    this.camera.aspect = this.aspect;
-    this.camera.updateProjectionMatrix();
+    fitAspect(this.camera, this.aspect);
     this.requestRender();
   }
 
@@ -133,14 +143,19 @@ export class Viewer extends EventTarget {
     this.lod.frame(performance.now());
   }
 
-  /** Sets the view from position/target/up arrays and a vertical fov in degrees. */
-  setView({ position, target, up, fovY }) {
+  /**
+   * Sets the view from position/target/up arrays and a vertical fov in degrees;
+   * `orthographic`: parallel rays, the view `orthoHeight` world units tall.
+   */
+  setView({ position, target, up, fovY, orthographic = false, orthoHeight }) {
+    this._useCamera(orthographic);
     const upVector = new THREE.Vector3(...(up && up.length === 3 ? up : [0, 1, 0])).normalize();
     if (!upVector.equals(this.camera.up)) this._makeControls(upVector);
     this.camera.position.set(...position);
     this.controls.target.set(...target);
-    if (fovY > 0) this.camera.fov = fovY;
-    this.camera.updateProjectionMatrix();
+    if (fovY > 0) this.perspective.fov = fovY;
+    this.perspective.updateProjectionMatrix();
+    if (orthographic) setOrthoHeight(this.camera, orthoHeight > 0 ? orthoHeight : 1, this.aspect);
     this._fitClipPlanes();
     this.controls.update();
     this.requestRender();
@@ -148,8 +163,8 @@ export class Viewer extends EventTarget {
   }
 
   setFov(fovY) {
-    this.camera.fov = fovY;
-    this.camera.updateProjectionMatrix();
+    this.perspective.fov = fovY;
+    this.perspective.updateProjectionMatrix();
     this.requestRender();
     this.dispatchEvent(new Event("camerachange"));
   }
@@ -157,11 +172,59 @@ export class Viewer extends EventTarget {
   _fitClipPlanes() {
     const size = this.bounds.getSize(new THREE.Vector3()).length() || 1;
     const distance = this.camera.position.distanceTo(this.bounds.getCenter(new THREE.Vector3()));
-    this.camera.near = Math.max(size * 1e-4, (distance - size * 2) * 0.5, 1e-4);
+    // An orthographic view sees from its own plane on, as the renderer's parallel rays do.
+    this.camera.near = this.orthographic ? 0 : Math.max(size * 1e-4, (distance - size * 2) * 0.5, 1e-4);
     this.camera.far = distance + size * 4;
     this.camera.updateProjectionMatrix();
     this.controls.minDistance = size * 1e-3;
     this.controls.maxDistance = size * 50;
+  }
+
+  get orthographic() {
+    return this.camera.isOrthographicCamera === true;
+  }
+
+  /** The perspective view's vertical field of view in degrees (kept while the view is orthographic). */
+  get fov() {
+    return this.perspective.fov;
+  }
+
+  /** World units the view spans vertically at the orbit target. */
+  get viewHeight() {
+    return viewHeight(this.camera, this.controls.target);
+  }
+
+  /**
+   * Switches the view to orthographic, `height` world units tall (by default
+   * what it shows at the orbit target now), or back to perspective, standing
+   * where the target's plane looks as large as it did.
+   */
+  setProjection(orthographic, height = null) {
+    const from = this.camera;
+    const shown = this.viewHeight;
+    const target = this.controls.target.clone();
+    this._useCamera(orthographic);
+    if (orthographic) setOrthoHeight(this.camera, height ?? shown, this.aspect);
+    else if (from.isOrthographicCamera) this.camera.position.copy(perspectivePosition(from, target, this.fov));
+    this._fitClipPlanes();
+    this.controls.update();
+    this.requestRender();
+    this.dispatchEvent(new Event("camerachange"));
+  }
+
+  // Makes the perspective or the orthographic camera the view's, in the other's pose.
+  _useCamera(orthographic) {
+    if (orthographic === this.orthographic) return;
+    const from = this.camera;
+    this.orthoCamera ??= new THREE.OrthographicCamera(-1, 1, 1, -1, 0, 1000);
+    const to = orthographic ? this.orthoCamera : this.perspective;
+    copyPose(to, from);
+    for (const child of [...from.children]) to.add(child);
+    this.scene.remove(from);
+    this.scene.add(to);
+    this.camera = to;
+    fitAspect(to, this.aspect);
+    this._makeControls(to.up.clone());
   }
 
   /** The scene's diagonal: sizes of gizmos and normals follow it. */
@@ -171,6 +234,8 @@ export class Viewer extends EventTarget {
 
   clearScene() {
     this.lod.clear();
+    this.sceneBackgrounds = { own: null, rig: null };
+    this._showBackground();
     for (const group of [this.model, this.gizmos]) {
       for (const child of [...group.children]) {
         group.remove(child);
@@ -199,6 +264,7 @@ export class Viewer extends EventTarget {
       }
     });
     this.model.add(gltf.scene);
+    this.sceneBackgrounds = glbBackgrounds(gltf.scene);
     this.showLightRig(this.rigOn ?? true);
     this.bounds.set(new THREE.Vector3(...info.boundsMin), new THREE.Vector3(...info.boundsMax));
     if (this.bounds.isEmpty()) this.bounds.setFromObject(gltf.scene);
@@ -215,6 +281,27 @@ export class Viewer extends EventTarget {
     this.model.traverse((o) => {
       if (o.isLight && o.userData?.rt?.default_rig) o.visible = on;
     });
+    this._showBackground();
+    this.requestRender();
+  }
+
+  /** The scene's own background as the render shows it now ({bottom, horizon, top}, linear), or null. */
+  get sceneBackground() {
+    const { own, rig } = this.sceneBackgrounds;
+    return ((this.rigOn ?? true) && rig) || own;
+  }
+
+  /** Draws `background` ({bottom, horizon, top}, linear RGB) instead of the scene's; null: the scene's again. */
+  setBackground(background) {
+    this.backgroundOverride = background;
+    this._showBackground();
+  }
+
+  _showBackground() {
+    const dark = new THREE.Color(0x15171c); // linear, as three.js's working colour space
+    const fallback = { bottom: dark.toArray(), horizon: dark.toArray(), top: dark.toArray() };
+    this.sky.set(this.backgroundOverride ?? this.sceneBackground ?? fallback);
+    this.dispatchEvent(new CustomEvent("scenebackground", { detail: this.sceneBackground }));
     this.requestRender();
   }
 

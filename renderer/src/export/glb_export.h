@@ -25,7 +25,10 @@ namespace rt {
 //   spherical ones with `extras.rt.radius`;
 // - the cameras as perspective cameras (yfov in radians) on nodes looking at
 //   their targets;
-// - the background colour as the scene's `extras.rt.background`.
+// - the background as the scene's `extras.rt`: `background` (a solid colour)
+//   or `background_gradient` {bottom, horizon, top}, as rt.SceneExtras has
+//   them; with the default rig, what misses see under it (its sky unless the
+//   scene gives a background) likewise in `extras.rt_default_rig`.
 // Loaded back, it gives the same triangles, diffuse colours, shininess,
 // textures, background, light positions and intensities, and camera views; the
 // loader does not read node extras, so spheres come back as their meshes and

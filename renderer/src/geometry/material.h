@@ -51,6 +51,9 @@ struct Material {
     float alpha = 1.0f;                     // base colour alpha
     float alpha_cutoff = 0.5f;              // MASK: texels below it are holes
     bool double_sided = false;
+    // KHR_materials_unlit: the base colour (× texture × vertex colour) is the
+    // radiance the surface sends, whatever lights it.
+    bool unlit = false;
 
     bool textured() const {
         return bool(base_color_texture) || bool(metallic_roughness_texture) || bool(normal_texture) ||

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "util/bounds.h"
+#include "geometry/background.h"
 #include "geometry/material.h"
 #include "util/math.h"
 #include "rt/render.pb.h"
@@ -60,7 +61,8 @@ struct Scene {
     std::vector<vec2> texcoords;
     // TEXCOORD_1, COLOR_0 (linear RGBA) and TANGENT (xyz, w the bitangent's
     // sign), each empty when no mesh has it; a mesh without it gets (0, 0),
-    // (1, 1, 1, 1) and (0, 0, 0, 0) when another has it.
+    // (1, 1, 1, 1) and (0, 0, 0, 0) when another has it. Tangents are those
+    // at shutter open, also in a moving scene.
     std::vector<vec2> texcoords1;
     std::vector<glm::vec4> colors;
     std::vector<glm::vec4> tangents;
@@ -78,12 +80,12 @@ struct Scene {
     std::vector<Texture> textures;
     std::vector<Light> lights;
     std::vector<SceneCamera> cameras;
-    vec3 background{0.0f};
+    Background background;  // black unless the scene gives one
     // With no lights of its own, the loader gives the scene a default rig
     // (load/light_rig.h): the last `rig_lights` lights, and `rig_background`
     // for rays that miss, both used unless the settings' light_rig is NO_RIG.
     size_t rig_lights = 0;
-    vec3 rig_background{0.0f};
+    Background rig_background;
 
     // What the loader noticed and repaired or skipped, for the user.
     std::vector<std::string> warnings;

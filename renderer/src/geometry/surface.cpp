@@ -75,6 +75,7 @@ void face_viewer(SurfaceHit& s, vec3 towards_viewer) {
         s.ns = -s.ns;
     }
     if (glm::dot(s.ns, towards_viewer) <= 0.0f) s.ns = s.ng;
+    s.n_smooth = s.ns;
 }
 
 }  // namespace rt

@@ -11,7 +11,10 @@ struct SurfaceHit {
     vec3 p{0.0f};
     vec3 p_error{0.0f};  // bound on |p - exact point| per axis
     vec3 ng{0.0f};       // geometric normal, unit length
-    vec3 ns{0.0f};       // interpolated shading normal, unit length
+    vec3 ns{0.0f};       // shading normal, unit length: interpolated, then bent by a normal map
+    // The interpolated normal, never bent: the smooth surface the vertex
+    // normals describe, which a light must be above to light the point.
+    vec3 n_smooth{0.0f};
     vec2 uv{0.0f};       // TEXCOORD_0
     vec2 uv1{0.0f};      // TEXCOORD_1
     glm::vec4 color{1.0f};  // COLOR_0, white without
@@ -36,7 +39,7 @@ SurfaceHit surface_at(const Scene& scene, const Ray& ray, const Hit& hit);
 // Orients both normals towards the side the ray came from (the 2020 report's
 // section 2.1), flipping them together so they stay consistent; a shading
 // normal that still faces away (interpolation at a silhouette) falls back to
-// the geometric one.
+// the geometric one. n_smooth is set to the (oriented) shading normal.
 void face_viewer(SurfaceHit& s, vec3 towards_viewer);
 
 }  // namespace rt

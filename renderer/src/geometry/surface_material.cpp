@@ -14,9 +14,20 @@ float coverage_of(const Material& m, float alpha) {
     return 1.0f;
 }
 
+// An unlit surface has no term that light could scale: it only emits, and it
+// still stops rays as its alpha says (so it casts shadows, as in three.js).
+SurfaceMaterial unlit_material(const Scene& scene, const Material& m, const SurfaceHit& s) {
+    SurfaceMaterial out;
+    const glm::vec4 texel = lookup(scene, m.base_color_texture, s) * s.color;
+    out.coverage = coverage_of(m, m.alpha * texel.a);
+    out.emission = m.base_color * vec3(texel);
+    return out;
+}
+
 }  // namespace
 
 SurfaceMaterial surface_material(const Scene& scene, const Material& m, const SurfaceHit& s) {
+    if (m.unlit) return unlit_material(scene, m, s);
     SurfaceMaterial out;
     out.diffuse = m.diffuse;
     out.specular = m.specular;

@@ -17,15 +17,23 @@ constexpr int kPoseChecks = 64;
 
 }  // namespace
 
-PinholeCamera::PinholeCamera(const Camera& camera, uint32_t width, uint32_t height)
+ViewCamera::ViewCamera(const Camera& camera, uint32_t width, uint32_t height)
     : inv_width_(1.0f / float(width)), inv_height_(1.0f / float(height)) {
     const vec3 y_up(0.0f, 1.0f, 0.0f);
     const vec3 ahead(0.0f, 0.0f, -1.0f);  // a target for a pose without one
     open_ = {to_vec3(camera.position(), vec3(0.0f)), to_vec3(camera.target(), ahead), to_vec3(camera.up(), y_up)};
     check(open_, "camera");
-    const float fov_y = camera.has_fov_y() ? camera.fov_y() : 45.0f;
-    tan_y_ = std::tan(0.5f * fov_y * kPi / 180.0f);
-    tan_x_ = tan_y_ * (float(width) / float(height));
+    orthographic_ = camera.projection() == ORTHOGRAPHIC;
+    if (orthographic_) {
+        // No default: a height that suits one scene is nonsense in another.
+        if (!camera.has_ortho_height())
+            throw std::invalid_argument("camera.ortho_height: is required for an ORTHOGRAPHIC camera");
+        half_y_ = 0.5f * camera.ortho_height();
+    } else {
+        const float fov_y = camera.has_fov_y() ? camera.fov_y() : 45.0f;
+        half_y_ = std::tan(0.5f * fov_y * kPi / 180.0f);
+    }
+    half_x_ = half_y_ * (float(width) / float(height));
     still_ = frame(open_);
     if (!camera.has_shutter_close()) return;
 
@@ -40,7 +48,7 @@ PinholeCamera::PinholeCamera(const Camera& camera, uint32_t width, uint32_t heig
     }
 }
 
-void PinholeCamera::check(const Pose& pose, const std::string& what, const std::string& when) {
+void ViewCamera::check(const Pose& pose, const std::string& what, const std::string& when) {
     const vec3 view = pose.target - pose.position;
     if (view == vec3(0.0f) || !is_finite(view))
         throw std::invalid_argument(what + ": position and target must differ" + when);
@@ -50,25 +58,31 @@ void PinholeCamera::check(const Pose& pose, const std::string& what, const std::
         throw std::invalid_argument(what + ".up: must not be parallel to the view direction" + when);
 }
 
-PinholeCamera::Pose PinholeCamera::pose_at(float time) const {
+ViewCamera::Pose ViewCamera::pose_at(float time) const {
     return {open_.position + time * (close_.position - open_.position),
             open_.target + time * (close_.target - open_.target), open_.up + time * (close_.up - open_.up)};
 }
 
-PinholeCamera::Frame PinholeCamera::frame(const Pose& pose) const {
+ViewCamera::Frame ViewCamera::frame(const Pose& pose) const {
     // Scenes span 1e-30 to 1e30: so may the distance to the target and the up vector.
     const vec3 forward = normalize_any_scale(pose.target - pose.position);
     const vec3 side = glm::cross(forward, normalize_any_scale(pose.up));
-    return {pose.position, forward, glm::normalize(side) * tan_x_, glm::normalize(glm::cross(side, forward)) * tan_y_};
+    return {pose.position, forward, glm::normalize(side) * half_x_, glm::normalize(glm::cross(side, forward)) * half_y_};
 }
 
-Ray PinholeCamera::ray_through(const Frame& f, float px, float py, float time) const {
+Ray ViewCamera::ray_through(const Frame& f, float px, float py, float time) const {
     const float sx = 2.0f * px * inv_width_ - 1.0f;
     const float sy = 1.0f - 2.0f * py * inv_height_;
+    if (orthographic_) return Ray{f.position + sx * f.right + sy * f.up, f.forward, kInfinity, time};
     return Ray{f.position, glm::normalize(f.forward + sx * f.right + sy * f.up), kInfinity, time};
 }
 
-Ray PinholeCamera::generate_ray(float px, float py, float time) const {
+RayCone ViewCamera::ray_cone() const {
+    const float height = 1.0f / inv_height_;
+    return orthographic_ ? RayCone::parallel(2.0f * half_y_ / height) : RayCone::camera(half_y_, height);
+}
+
+Ray ViewCamera::generate_ray(float px, float py, float time) const {
     if (!moving_) return ray_through(still_, px, py, time);
     return ray_through(frame(pose_at(time)), px, py, time);
 }

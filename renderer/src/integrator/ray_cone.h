@@ -22,11 +22,14 @@ struct RayCone {
     // subtends at the image's centre, atan(2 tan(fov_y / 2) / height).
     // The same for every pixel and every sample of a pixel: with
     // many samples each still stands for the whole pixel, which errs towards
-    // blur, never towards aliasing. An orthographic camera would give a
-    // constant width and spread 0; ours are all pinholes.
+    // blur, never towards aliasing.
     static RayCone camera(float tan_half_fov_y, float height) {
         return {0.0f, std::atan(2.0f * tan_half_fov_y / height)};
     }
+
+    // An orthographic camera's ray: as wide as one pixel's footprint on the
+    // image plane, in world units, and just as wide at any distance.
+    static RayCone parallel(float pixel_size) { return {pixel_size, 0.0f}; }
 
     // The cone of a ray a hit spawns (reflection, refraction, a BLEND
     // surface's straight-through ray): as wide as this one where it hit, with

@@ -27,12 +27,12 @@ Camera checked(Camera camera) {
 Renderer::Renderer(const Accelerator& accel, RenderSettings settings, Camera camera)
     : settings_(checked(std::move(settings))),
       camera_(checked(std::move(camera))),
-      pinhole_(camera_, settings_.width(), settings_.height()),
-      cone_(pinhole_.ray_cone()),
+      view_(camera_, settings_.width(), settings_.height()),
+      cone_(view_.ray_cone()),
       film_(settings_),
       stopping_(settings_.adaptive_threshold(), settings_.samples_per_pixel()),
       integrator_(accel, settings_) {
-    if (!pinhole_.moving() && !accel.scene().moving()) return;
+    if (!view_.moving() && !accel.scene().moving()) return;
     sample_times_ = settings_.motion_blur() == TIME_SAMPLED;
     if (settings_.motion_blur() == FRAMES) motion_frames_ = settings_.motion_frames();
 }
@@ -61,14 +61,14 @@ vec3 Renderer::estimate_frame(uint32_t x, uint32_t y, std::optional<float> time,
         // middle of the shutter interval: the image of before samples_per_pixel
         // existed, with nothing to place or average.
         ++samples;
-        return trace(pinhole_.generate_ray(float(x) + 0.5f, float(y) + 0.5f, time.value_or(0.5f)),
+        return trace(view_.generate_ray(float(x) + 0.5f, float(y) + 0.5f, time.value_or(0.5f)),
                      PixelSampler(key, 0));
     }
     PixelEstimate estimate;
     for (uint32_t i = 0; i < count; ++i) {
         const PixelSampler sampler(key, i);
         const vec2 offset = film_.offset(sampler);
-        const Ray ray = pinhole_.generate_ray(float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y,
+        const Ray ray = view_.generate_ray(float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y,
                                               time ? *time : sampler.time());
         estimate.add(trace(ray, sampler));
         if (stopping_.done(estimate)) break;

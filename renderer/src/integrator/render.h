@@ -119,7 +119,7 @@ class Renderer {
 
     RenderSettings settings_;
     Camera camera_;
-    PinholeCamera pinhole_;
+    ViewCamera view_;
     RayCone cone_;  // every camera ray's footprint, for texture filtering (ray_cone.h)
     FilmSampler film_;
     StoppingRule stopping_;

@@ -8,6 +8,8 @@
 
 #include "integrator/dielectric.h"
 #include "integrator/sampling.h"
+#include "geometry/normal_map.h"
+#include "geometry/shadow_terminator.h"
 #include "geometry/spawn.h"
 #include "geometry/surface_material.h"
 #include "integrator/punctual_light.h"
@@ -49,6 +51,9 @@ WhittedIntegrator::WhittedIntegrator(const Accelerator& accel, const RenderSetti
     // The default rig is the scene's last lights: without it, fewer lights.
     light_count_ = scene_.lights.size() - (settings.light_rig() == NO_RIG ? scene_.rig_lights : 0);
     background_ = scene_.rig_lights > 0 && settings.light_rig() != NO_RIG ? scene_.rig_background : scene_.background;
+    const auto* gradient = settings.has_background_gradient() ? &settings.background_gradient() : nullptr;
+    if (auto given = background_from(settings.background(), gradient, "settings.background_gradient"))
+        background_ = *given;
     for (size_t i = 0; i < light_count_; ++i)
         if (scene_.lights[i].radius > 0.0f) sphere_lights_.push_back(uint32_t(i));
     // The rig's fill is its last light (light_rig.h).
@@ -129,7 +134,7 @@ vec3 WhittedIntegrator::trace(const Ray& ray, RayCone cone, RayKind kind, uint32
             return emitted;
         }
     }
-    if (!hit.found()) return background_;
+    if (!hit.found()) return background_(ray.direction);
 
     SurfaceHit s = surface_at(scene_, ray, hit);
     s.cone_width = cone.width_at(hit.t);
@@ -140,16 +145,23 @@ vec3 WhittedIntegrator::trace(const Ray& ray, RayCone cone, RayKind kind, uint32
     const vec3 outward = glm::dot(s.ns, s.ng) < 0.0f ? -s.ng : s.ng;
     const bool entering = glm::dot(outward, ray.direction) < 0.0f;
     const vec3 wo = -ray.direction;
+    const vec3 authored = s.ns;
     face_viewer(s, wo);
     const Material& m = scene_.materials[s.material];
+    if (m.normal_texture) apply_normal_map(scene_, m, hit, authored, wo, s);
     const SurfaceMaterial sm = surface_material(scene_, m, s);
     recorder.surface(segment, s, hit, m, sm.diffuse);
 
     // Light that passes the dielectric interface never reaches the Phong
     // surface; an opaque material's opacity of exactly 1 leaves it unchanged.
-    // Emission is the surface's own and shows through any layer.
+    // Emission is the surface's own and shows through any layer. Shadow rays
+    // start where the vertex normals put the surface (shadow_terminator.h).
+    SurfaceHit lit = s;
+    const ShadowOrigin origin = shadow_terminator_origin(scene_, hit, s, entering ? 1.0f : -1.0f);
+    lit.p = origin.p;
+    lit.p_error = origin.p_error;
     vec3 color = sm.emission +
-                 direct_light(s, wo, sm, vec3(1.0f) - m.transmission, depth, segment, sampler, recorder);
+                 direct_light(lit, wo, sm, vec3(1.0f) - m.transmission, depth, segment, sampler, recorder);
     recorder.contribution(segment, color);
 
     // The mirror belongs to the Phong surface, which the light that passes the
@@ -233,7 +245,12 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Surface
                                      uint32_t depth, int parent, const PixelSampler& sampler,
                                      Recorder& recorder) const {
     // Shadow rays stay opaque: a transmissive occluder blocks the light, as in
-    // Whitted's model (caustics through glass are beyond it).
+    // Whitted's model (caustics through glass are beyond it). A light lights
+    // the point when it is above both the (possibly bent) shading normal and
+    // the smooth surface the vertex normals describe, not the flat facet:
+    // near a low-poly mesh's terminator the facet already faces away where
+    // the smooth surface is lit, and its shadow rays start on the smooth
+    // surface (shadow_terminator.h). A normal map cannot light what lies below.
     vec3 color(0.0f);
     for (size_t light_index = 0; light_index < light_count_; ++light_index) {
         const Light& light = scene_.lights[light_index];
@@ -251,7 +268,7 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Surface
         if (light.radius == 0.0f) {
             const vec3 wi = to_light / std::sqrt(distance_squared);
             const float cos_theta = glm::dot(s.ns, wi);
-            if (cos_theta <= 0.0f || glm::dot(s.ng, wi) <= 0.0f) continue;
+            if (cos_theta <= 0.0f || glm::dot(s.n_smooth, wi) <= 0.0f) continue;
             // A spot's cone and a range window; exactly 1 (the same image) for a plain point light.
             const float attenuation = light.plain_point() ? 1.0f : punctual_attenuation(light, wi, distance_squared);
             if (!(attenuation > 0.0f)) continue;
@@ -276,7 +293,7 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Surface
             SphereLightSample sample;
             if (!light_sampler.sample(sampler.get_2d(uint32_t(light_index), i, light_samples_), sample)) continue;
             const float cos_theta = glm::dot(s.ns, sample.wi);
-            if (cos_theta <= 0.0f || glm::dot(s.ng, sample.wi) <= 0.0f) continue;
+            if (cos_theta <= 0.0f || glm::dot(s.n_smooth, sample.wi) <= 0.0f) continue;
             float visibility = 0.0f;
             const int shadow = recorder.shadow(accel_, spawn_ray_to(s.p, s.p_error, s.ng, sample.point, s.time), depth,
                                                parent, uint32_t(light_index), visibility);
@@ -306,7 +323,7 @@ vec3 WhittedIntegrator::sun_light(const SurfaceHit& s, vec3 wo, const SurfaceMat
     for (uint32_t i = 0; i < count; ++i) {
         const vec3 wi = soft ? sun.sample(sampler.get_2d(light_index, i, count)) : -light.direction;
         const float cos_theta = glm::dot(s.ns, wi);
-        if (cos_theta <= 0.0f || glm::dot(s.ng, wi) <= 0.0f) continue;
+        if (cos_theta <= 0.0f || glm::dot(s.n_smooth, wi) <= 0.0f) continue;
         float visibility = 0.0f;
         const int shadow =
             recorder.shadow(accel_, spawn_ray(s.p, s.p_error, s.ng, wi, s.time), depth, parent, light_index, visibility);

@@ -108,7 +108,7 @@ class WhittedIntegrator {
     LightSampling light_sampling_;
     size_t rig_fill_;                      // the default rig's fill light, SIZE_MAX without the rig
     size_t light_count_;                   // the lights that shine: all, or all but the default rig
-    vec3 background_;                      // what rays that miss see
+    Background background_;                // what rays that miss see: the settings', else the scene's
     std::vector<uint32_t> sphere_lights_;  // indices of the lights with a radius
 };
 

@@ -2,12 +2,17 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstring>
 #include <map>
 #include <optional>
 #include <string_view>
 
 #include <nlohmann/json.hpp>
 
+#include "load/gltf_approximations.h"
+#include "load/gltf_accessor.h"
+#include "load/gltf_compressed.h"
+#include "load/gltf_data_uri.h"
 #include "load/loader.h"
 
 namespace rt {
@@ -83,6 +88,26 @@ std::span<const unsigned char> check_glb(std::span<const unsigned char> data, co
     return data.first(length);
 }
 
+// The GLB `data` (checked by check_glb, its JSON chunk `json`) with `new_json`
+// as its JSON chunk instead, padded with spaces as the container requires.
+std::vector<unsigned char> replace_glb_json(std::span<const unsigned char> data, std::string_view json,
+                                            std::string new_json, const std::string& name) {
+    new_json.resize((new_json.size() + 3) / 4 * 4, ' ');
+    const std::span<const unsigned char> rest = data.subspan(20 + json.size());
+    const size_t length = 20 + new_json.size() + rest.size();
+    if (length > UINT32_MAX) throw SceneError(name + ": GLB would grow past 4 GiB with its JSON completed");
+    std::vector<unsigned char> glb(length);
+    std::memcpy(glb.data(), data.data(), 20);
+    const auto store_u32 = [&](size_t at, size_t value) {
+        for (int i = 0; i < 4; ++i) glb[at + i] = static_cast<unsigned char>(value >> (8 * i));
+    };
+    store_u32(8, length);
+    store_u32(12, new_json.size());
+    std::memcpy(glb.data() + 20, new_json.data(), new_json.size());
+    if (!rest.empty()) std::memcpy(glb.data() + 20 + new_json.size(), rest.data(), rest.size());
+    return glb;
+}
+
 const Json* member(const Json& object, const char* key) {
     if (!object.is_object()) return nullptr;
     const auto it = object.find(key);
@@ -95,25 +120,12 @@ uint64_t unsigned_or(const Json& object, const char* key, uint64_t fallback) {
     return value && value->is_number_unsigned() ? value->get<uint64_t>() : fallback;
 }
 
-// The number of bytes tinygltf decodes from a base64 data: URI: it stops at the
-// first character that is not base64.
-size_t data_uri_bytes(std::string_view uri) {
-    const size_t start = uri.find(',') + 1;
-    size_t digits = 0;
-    while (start + digits < uri.size()) {
-        const char c = uri[start + digits];
-        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '+' || c == '/')) break;
-        ++digits;
-    }
-    return digits / 4 * 3 + (digits % 4 > 1 ? digits % 4 - 1 : 0);
-}
-
 // The element that references each file, by decoded URI, for messages.
 using ReferenceNames = std::map<std::string, std::string>;
 
-// Every buffer and image URI must be a data: URI or a file inside the scene
-// folder; a buffer's data: URI must hold exactly its byteLength. Only a GLB's
-// first buffer, its BIN chunk, has none.
+// Every buffer and image URI must be a well-formed data: URI (gltf_data_uri.h)
+// or a file inside the scene folder; a buffer's data: URI must hold exactly its
+// byteLength. Only a GLB's first buffer, its BIN chunk, has none.
 void check_references(const Json& doc, const char* array, bool binary, const SceneFolder& folder,
                       ReferenceNames& names) {
     const Json* items = member(doc, array);
@@ -128,17 +140,19 @@ void check_references(const Json& doc, const char* array, bool binary, const Sce
                              "its BIN chunk, may leave it out)");
         if (!uri) continue;
         const std::string& text = uri->get_ref<const std::string&>();
-        if (!tinygltf::IsDataURI(text)) {
+        if (!is_data_uri(text)) {
             const std::string decoded = decode_uri(text);
             folder.resolve(decoded, element + ".uri");
             names.emplace(decoded, element + ".uri");
         } else if (buffers) {
             const uint64_t declared = unsigned_or((*items)[i], "byteLength", 0);
-            const size_t held = data_uri_bytes(text);
+            const size_t held = check_data_uri(text, true, folder.scene_name() + ": " + element + ".uri");
             if (held != declared)
                 throw SceneError(folder.scene_name() + ": " + element + " declares byteLength " +
                                  std::to_string(declared) + " but its data: URI holds " +
                                  std::to_string(held) + " bytes");
+        } else {
+            check_data_uri(text, false, folder.scene_name() + ": " + element + ".uri");
         }
     }
 }
@@ -199,9 +213,10 @@ void add_extras(const Json& object, const std::string& element, const std::strin
 // Everything about the document that must hold before tinygltf parses it: its
 // depth, required extensions, the files it references (named in `names`), image
 // buffer views. Returns the `extras.rt` objects of the asset and of the scene
-// to render, parsed.
+// to render, parsed. Sets `rewritten` to the document tinygltf must parse
+// instead when it had to change it (prepare_compressed_json).
 std::vector<SceneAdditions> check_document(std::string_view text, bool binary, const SceneFolder& folder,
-                                           ReferenceNames& names) {
+                                           ReferenceNames& names, std::string& rewritten) {
     const std::string& name = folder.scene_name();
     if (json_depth(text) > kMaxJsonDepth)
         throw SceneError(name + ": JSON nesting is deeper than " + std::to_string(kMaxJsonDepth) + " levels");
@@ -212,6 +227,7 @@ std::vector<SceneAdditions> check_document(std::string_view text, bool binary, c
         throw SceneError(name + ": invalid JSON: " + json_error(e));
     }
     if (!doc.is_object()) throw SceneError(name + ": the glTF document is not a JSON object");
+    if (prepare_compressed_json(doc, name)) rewritten = doc.dump();
 
     if (const Json* required = member(doc, "extensionsRequired"); required && required->is_array()) {
         for (const Json& extension : *required) {
@@ -225,6 +241,8 @@ std::vector<SceneAdditions> check_document(std::string_view text, bool binary, c
     }
     check_references(doc, "buffers", binary, folder, names);
     check_references(doc, "images", binary, folder, names);
+    // Both run (`|`, not `||`): each fills in what tinygltf would refuse.
+    if (relabel_image_data_uris(doc) | mark_viewless_indices(doc)) rewritten = doc.dump();
     check_image_views(doc, name);
 
     std::vector<SceneAdditions> extras;
@@ -319,7 +337,16 @@ LoadedScene load_gltf(std::span<const unsigned char> data, bool binary, const Sc
     std::string_view json(reinterpret_cast<const char*>(data.data()), data.size());
     if (binary) data = check_glb(data, name, json);
     ReferenceNames names;
-    std::vector<SceneAdditions> extras = check_document(json, binary, folder, names);
+    std::string rewritten;
+    std::vector<SceneAdditions> extras = check_document(json, binary, folder, names, rewritten);
+    std::vector<unsigned char> rewritten_glb;
+    if (!rewritten.empty()) {
+        if (binary) {
+            rewritten_glb = replace_glb_json(data, json, rewritten, name);
+            data = rewritten_glb;
+        }
+        json = rewritten;
+    }
 
     FileAccess access{folder, names, {}, std::nullopt};
     tinygltf::TinyGLTF parser;
@@ -338,6 +365,9 @@ LoadedScene load_gltf(std::span<const unsigned char> data, bool binary, const Sc
     }
     if (access.error) throw *access.error;
     if (!ok) throw SceneError(name + ": " + one_line(error.empty() ? "cannot be parsed" : error));
+    DecodeBudget budget;
+    decode_meshopt(model, name, budget);
+    decode_draco(model, name, budget);
 
     std::vector<SceneAdditions::Motion> all_motions;
     for (const SceneAdditions& additions : extras)
@@ -345,6 +375,8 @@ LoadedScene load_gltf(std::span<const unsigned char> data, bool binary, const Sc
     all_motions.insert(all_motions.end(), motions.begin(), motions.end());
     LoadedScene loaded = build_gltf_scene(model, name, all_motions);
     loaded.extras = std::move(extras);
+    for (std::string& approximation : approximation_warnings(model, name))
+        loaded.scene.warnings.push_back(std::move(approximation));
     if (!warning.empty())
         loaded.scene.warnings.insert(loaded.scene.warnings.begin(), name + ": " + one_line(warning));
     return loaded;

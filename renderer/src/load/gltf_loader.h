@@ -18,7 +18,9 @@ namespace rt {
 // meaning of the file in a way we would silently get wrong, so it is refused.
 inline constexpr const char* kSupportedGltfExtensions[] = {"KHR_lights_punctual", "KHR_materials_transmission",
                                                           "KHR_materials_ior", "KHR_materials_emissive_strength",
-                                                          "KHR_texture_transform", "EXT_texture_webp"};
+                                                          "KHR_texture_transform", "EXT_texture_webp",
+                                                          "KHR_mesh_quantization", "EXT_meshopt_compression",
+                                                          "KHR_draco_mesh_compression", "KHR_materials_unlit"};
 
 // What to do with a KTX2 / Basis Universal texture (KHR_texture_basisu), which
 // the renderer cannot decode.

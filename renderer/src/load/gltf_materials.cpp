@@ -92,13 +92,14 @@ uint32_t GltfMaterials::material(int index, const std::string& what) {
                                                  name + ".pbrMetallicRoughness.metallicRoughnessTexture",
                                                  Texture::Encoding::Linear);
     read_surface(source, label, name, out);
+    out.unlit = source.extensions.count("KHR_materials_unlit") != 0;
 
     mapped = int(scene_.materials.size());
     scene_.materials.push_back(std::move(out));
     return uint32_t(mapped);
 }
 
-// Emission, alpha, the occlusion map and doubleSided (docs/materials.md).
+// Emission, alpha, the occlusion and normal maps and doubleSided (docs/materials.md).
 void GltfMaterials::read_surface(const tinygltf::Material& source, const std::string& label, const std::string& name,
                                  Material& out) {
     if (source.emissiveFactor.size() != 3)
@@ -138,6 +139,19 @@ void GltfMaterials::read_surface(const tinygltf::Material& source, const std::st
         info.extensions = occlusion.extensions;
         out.occlusion_texture = texture(info, name + ".occlusionTexture", Texture::Encoding::Linear);
         out.occlusion_strength = float(std::clamp(occlusion.strength, 0.0, 1.0));
+    }
+
+    // Tangent-space data, so linear; the scale multiplies x and y. Beyond
+    // +-1e4 the tilt no longer changes at float precision.
+    const tinygltf::NormalTextureInfo& normal = source.normalTexture;
+    if (normal.index >= 0) {
+        if (!std::isfinite(normal.scale)) throw SceneError(label + ".normalTexture.scale is not a finite number");
+        tinygltf::TextureInfo info;
+        info.index = normal.index;
+        info.texCoord = normal.texCoord;
+        info.extensions = normal.extensions;
+        out.normal_texture = texture(info, name + ".normalTexture", Texture::Encoding::Linear);
+        out.normal_scale = float(std::clamp(normal.scale, -1e4, 1e4));
     }
 }
 

@@ -11,6 +11,8 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "load/gltf_accessor.h"
+#include "load/gltf_attributes.h"
+#include "load/gltf_camera.h"
 #include "load/gltf_lights.h"
 #include "load/gltf_loader.h"
 #include "load/gltf_poses.h"
@@ -69,18 +71,15 @@ class GltfSceneBuilder {
         dmat4 open{1.0};
         dmat4 close{1.0};
     };
-    // A primitive's accessors, their counts checked against POSITION's.
-    struct Attributes {
-        GltfAccessor positions;
-        std::optional<GltfAccessor> normals, texcoords, indices;
-    };
+    using Attributes = GltfPrimitiveAttributes;
     std::vector<Reference> root_nodes() const;
     void add_primitive(const tinygltf::Primitive& primitive, const std::string& what, const World& world);
     // Nothing, with a warning, for a primitive without positions.
     std::optional<Attributes> read_attributes(const tinygltf::Primitive& primitive, const std::string& what);
-    std::vector<uint32_t> corner_vertices(const Attributes& attributes, const std::string& what) const;
     // Appends the primitive's vertices in world space; returns the first one's index.
     size_t add_vertices(const Attributes& attributes, const World& world);
+    // TEXCOORD_1, COLOR_0 and TANGENT of the vertices add_vertices appends.
+    void add_extra_attributes(const Attributes& attributes, const World& world);
     void add_triangles(int mode, const std::vector<uint32_t>& corners, size_t count, size_t base, bool mirrored,
                        uint32_t material);
     void add_camera(const tinygltf::Node& node, const std::string& what, const World& world);
@@ -91,6 +90,8 @@ class GltfSceneBuilder {
     LoadedScene loaded_;
     GltfMaterials materials_;
     GltfPoses poses_;
+    // Whether Scene::texcoords1, colors and tangents hold one per vertex yet.
+    bool has_texcoords1_ = false, has_colors_ = false, has_tangents_ = false;
 };
 
 std::vector<GltfSceneBuilder::Reference> GltfSceneBuilder::root_nodes() const {
@@ -175,7 +176,7 @@ void GltfSceneBuilder::add_primitive(const tinygltf::Primitive& primitive, const
         fail(what + " has " + std::to_string(c) + " corners, not a multiple of 3");
     const size_t triangle_count = mode == TINYGLTF_MODE_TRIANGLES ? c / 3 : (c >= 3 ? c - 2 : 0);
     check_geometry_limits(loaded_.scene, n, triangle_count, name_ + ": " + what);
-    const std::vector<uint32_t> corners = corner_vertices(*attributes, what);
+    const std::vector<uint32_t> corners = corner_vertices(*attributes, name_ + ": " + what);
 
     // A mirroring transform reverses the winding; we reverse it back so it keeps
     // matching the normals. (One that starts mirroring during the shutter
@@ -190,52 +191,11 @@ void GltfSceneBuilder::add_primitive(const tinygltf::Primitive& primitive, const
 
 std::optional<GltfSceneBuilder::Attributes> GltfSceneBuilder::read_attributes(const tinygltf::Primitive& primitive,
                                                                               const std::string& what) {
-    const auto attribute = [&](const char* semantic) {
-        const auto it = primitive.attributes.find(semantic);
-        return it == primitive.attributes.end() ? -1 : it->second;
-    };
-    if (attribute("POSITION") == -1) {
+    if (attribute_accessor(primitive, "POSITION") == -1) {
         warn(what + " has no POSITION attribute: skipped");
         return std::nullopt;
     }
-    using Types = std::initializer_list<int>;
-    const Types floats{TINYGLTF_COMPONENT_TYPE_FLOAT};
-    const std::string prefix = name_ + ": " + what;
-    Attributes a{GltfAccessor(model_, attribute("POSITION"), prefix + " POSITION", TINYGLTF_TYPE_VEC3, floats), {},
-                 {}, {}};
-    const size_t n = a.positions.count();
-    if (attribute("NORMAL") != -1)
-        a.normals.emplace(model_, attribute("NORMAL"), prefix + " NORMAL", TINYGLTF_TYPE_VEC3, floats);
-    if (attribute("TEXCOORD_0") != -1) {
-        a.texcoords.emplace(model_, attribute("TEXCOORD_0"), prefix + " TEXCOORD_0", TINYGLTF_TYPE_VEC2,
-                            Types{TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
-                                  TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT});
-        if (a.texcoords->component_type() != TINYGLTF_COMPONENT_TYPE_FLOAT && !a.texcoords->normalized())
-            fail(what + " TEXCOORD_0 has integer components that are not normalized");
-    }
-    for (const auto* attr : {&a.normals, &a.texcoords})
-        if (*attr && (*attr)->count() != n)
-            throw SceneError((*attr)->what() + " has " + std::to_string((*attr)->count()) +
-                             " elements, but POSITION has " + std::to_string(n));
-    if (primitive.indices != -1)
-        a.indices.emplace(model_, primitive.indices, prefix + " indices", TINYGLTF_TYPE_SCALAR,
-                          Types{TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
-                                TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT});
-    return a;
-}
-
-// The vertex of each corner, in the order the mode gives them.
-std::vector<uint32_t> GltfSceneBuilder::corner_vertices(const Attributes& attributes, const std::string& what) const {
-    const size_t n = attributes.positions.count();
-    const size_t c = attributes.indices ? attributes.indices->count() : n;
-    std::vector<uint32_t> corners(c);
-    for (size_t i = 0; i < c; ++i) {
-        corners[i] = attributes.indices ? attributes.indices->index_at(i) : uint32_t(i);
-        if (corners[i] >= n)
-            fail(what + " index " + std::to_string(corners[i]) + " (element " + std::to_string(i) +
-                 ") is out of range: POSITION has " + std::to_string(n) + " elements");
-    }
-    return corners;
+    return read_primitive_attributes(model_, primitive, name_ + ": " + what);
 }
 
 size_t GltfSceneBuilder::add_vertices(const Attributes& attributes, const World& world) {
@@ -252,6 +212,7 @@ size_t GltfSceneBuilder::add_vertices(const Attributes& attributes, const World&
         scene.texcoords.assign(scene.positions.size(), vec2(0.0f));
         loaded_.has_texcoords = true;
     }
+    add_extra_attributes(attributes, world);
     const size_t base = scene.positions.size();
     for (size_t i = 0; i < positions.count(); ++i) {
         const std::string element = " element " + std::to_string(i);
@@ -280,6 +241,54 @@ size_t GltfSceneBuilder::add_vertices(const Attributes& attributes, const World&
     return base;
 }
 
+// Like texcoords: a vector stays empty until a primitive has the attribute, then
+// the vertices before it get the default, as do primitives without it later.
+void GltfSceneBuilder::add_extra_attributes(const Attributes& attributes, const World& world) {
+    Scene& scene = loaded_.scene;
+    const size_t n = attributes.positions.count();
+    const auto start = [&](const std::optional<GltfAccessor>& accessor, bool& has, auto& values, auto fallback) {
+        if (accessor && !has) {
+            values.assign(scene.positions.size(), fallback);
+            has = true;
+        }
+        if (has && !accessor) values.insert(values.end(), n, fallback);
+        return has && accessor;
+    };
+    const auto finite = [](glm::vec4 v) { return is_finite(vec3(v)) && std::isfinite(v.w); };
+    const auto not_finite = [](const GltfAccessor& accessor, size_t i) {
+        return SceneError(accessor.what() + " element " + std::to_string(i) + " is not finite");
+    };
+    if (start(attributes.texcoords1, has_texcoords1_, scene.texcoords1, vec2(0.0f)))
+        for (size_t i = 0; i < n; ++i) {
+            const vec2 uv = attributes.texcoords1->vec2_at(i);
+            if (!finite(glm::vec4(uv, 0.0f, 0.0f))) throw not_finite(*attributes.texcoords1, i);
+            scene.texcoords1.push_back(uv);
+        }
+    if (start(attributes.colors, has_colors_, scene.colors, glm::vec4(1.0f)))
+        for (size_t i = 0; i < n; ++i) {
+            const glm::vec4 color = attributes.colors->vec4_at(i);  // a VEC3 colour gets alpha 1
+            if (!finite(color)) throw not_finite(*attributes.colors, i);
+            scene.colors.push_back(color);
+        }
+    // Tangents follow the surface like positions do (the upper 3x3, not the
+    // normal matrix); a mirroring transform flips the bitangent, so w too.
+    // They take the shutter-open pose only: Scene has no tangents at close.
+    // A tangent that does not normalise becomes (0, 0, 0, 0), "none", for
+    // finalisation to compute like a missing one.
+    if (start(attributes.tangents, has_tangents_, scene.tangents, glm::vec4(0.0f))) {
+        const dmat3 m(world.open);
+        const double handedness = glm::determinant(m) < 0.0 ? -1.0 : 1.0;
+        for (size_t i = 0; i < n; ++i) {
+            const glm::vec4 t = attributes.tangents->vec4_at(i);
+            if (!finite(t)) throw not_finite(*attributes.tangents, i);
+            const std::optional<dvec3> direction = try_normalize(m * dvec3(vec3(t)));
+            const double w = (t.w < 0.0f ? -1.0 : 1.0) * handedness;
+            scene.tangents.push_back(direction && fits_float(*direction) ? glm::vec4(vec3(*direction), float(w))
+                                                                         : glm::vec4(0.0f));
+        }
+    }
+}
+
 // `count` triangles of `corners` in the order `mode` gives them, their vertices
 // counted from `base`, wound back when the transform mirrors them.
 void GltfSceneBuilder::add_triangles(int mode, const std::vector<uint32_t>& corners, size_t count, size_t base,
@@ -304,10 +313,6 @@ void GltfSceneBuilder::add_camera(const tinygltf::Node& node, const std::string&
         fail(what + ".camera refers to camera " + std::to_string(node.camera) + ", which does not exist");
     const tinygltf::Camera& source = model_.cameras[size_t(node.camera)];
     const std::string name = at("cameras", size_t(node.camera));
-    if (source.type != "perspective") {
-        warn(name + " is " + in_quotes(source.type) + ", not a perspective camera: skipped");
-        return;
-    }
     // A glTF camera looks down its node's -Z with +Y up.
     const auto set_pose = [&](const dmat4& transform, auto& pose) {
         const dmat3 m(transform);
@@ -325,9 +330,11 @@ void GltfSceneBuilder::add_camera(const tinygltf::Node& node, const std::string&
     Camera camera;
     set_pose(world.open, camera);
     if (world.close != world.open) set_pose(world.close, *camera.mutable_shutter_close());
-    // Out of float's range, the field of view becomes infinite for the limits to refuse.
-    const double fov_y = glm::degrees(source.perspective.yfov);
-    camera.set_fov_y(std::abs(fov_y) < 1e30 ? float(fov_y) : std::numeric_limits<float>::infinity());
+    try {
+        read_gltf_projection(source, name, camera);
+    } catch (const std::invalid_argument& e) {
+        fail(e.what());
+    }
     try {
         apply_limits(camera, name_ + ": " + name);
     } catch (const std::invalid_argument& e) {

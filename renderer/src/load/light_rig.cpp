@@ -34,7 +34,7 @@ void add_light_rig(Scene& scene) {
     };
     add("default rig: key", -0.6f * forward + 0.8f * up - 0.5f * right, vec3(kRigKeyLux));
     add("default rig: fill", -0.8f * forward + 0.2f * up + 0.7f * right, kRigFillLux * vec3(0.9f, 0.95f, 1.0f));
-    scene.rig_background = scene.background != vec3(0.0f) ? scene.background : kRigSky;
+    scene.rig_background = scene.background.black() ? Background(kRigSky) : scene.background;
 }
 
 }  // namespace rt

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "load/format_loaders.h"
+#include "load/generate_tangents.h"
 #include "load/light_rig.h"
 #include "load/scene_extras.h"
 #include "load/scene_files.h"
@@ -85,7 +86,8 @@ void drop_degenerate_triangles(Scene& scene, const std::string& name) {
 void drop_unused_vertices(Scene& scene, bool has_texcoords) {
     std::vector<uint32_t> remap(scene.positions.size(), UINT32_MAX);
     std::vector<vec3> positions, normals, positions_close, normals_close;
-    std::vector<vec2> texcoords;
+    std::vector<vec2> texcoords, texcoords1;
+    std::vector<glm::vec4> colors, tangents;
     for (uvec3& tri : scene.triangles) {
         for (int k = 0; k < 3; ++k) {
             uint32_t& index = remap[tri[k]];
@@ -94,6 +96,10 @@ void drop_unused_vertices(Scene& scene, bool has_texcoords) {
                 positions.push_back(scene.positions[tri[k]]);
                 normals.push_back(scene.normals[tri[k]]);
                 if (has_texcoords) texcoords.push_back(scene.texcoords[tri[k]]);
+                // Empty when no mesh has them, else one per vertex.
+                if (!scene.texcoords1.empty()) texcoords1.push_back(scene.texcoords1[tri[k]]);
+                if (!scene.colors.empty()) colors.push_back(scene.colors[tri[k]]);
+                if (!scene.tangents.empty()) tangents.push_back(scene.tangents[tri[k]]);
                 if (scene.moving()) {
                     positions_close.push_back(scene.positions_close[tri[k]]);
                     normals_close.push_back(scene.normals_close[tri[k]]);
@@ -105,6 +111,9 @@ void drop_unused_vertices(Scene& scene, bool has_texcoords) {
     scene.positions = std::move(positions);
     scene.normals = std::move(normals);
     scene.texcoords = std::move(texcoords);
+    scene.texcoords1 = std::move(texcoords1);
+    scene.colors = std::move(colors);
+    scene.tangents = std::move(tangents);
     scene.positions_close = std::move(positions_close);
     scene.normals_close = std::move(normals_close);
 }
@@ -158,6 +167,8 @@ void finalise(LoadedScene& loaded, const std::string& name) {
             scene.normals_close.clear();
         }
     }
+
+    generate_tangents(scene, name);  // needs the complete normals
 
     const auto unassigned = std::find(scene.triangle_materials.begin(), scene.triangle_materials.end(), kNoMaterial);
     if (unassigned != scene.triangle_materials.end()) {

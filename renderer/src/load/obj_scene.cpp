@@ -4,9 +4,11 @@
 // moves the faces of every object or group of its name (the `o` or `g` line
 // they follow last) in world space.
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <optional>
 #include <string_view>
+#include <tuple>
 #include <unordered_map>
 
 #include <glm/gtc/type_ptr.hpp>
@@ -55,7 +57,8 @@ class ObjSceneBuilder {
     [[noreturn]] void fail(const std::string& problem) const { throw SceneError(name_ + ": " + problem); }
     void check_range(const std::vector<double>& values, size_t width, const char* kind) const;
     Material convert(const tinyobj::material_t& source);
-    int texture(const std::string& file, bool clamp, const std::string& what);
+    int texture(const std::string& file, bool clamp, const std::string& what,
+                Texture::Encoding encoding = Texture::Encoding::Srgb);
     dvec3 position(int v) const { return glm::make_vec3(&attrib_.vertices[3 * size_t(v)]); }
 
     const SceneFolder& folder_;
@@ -65,7 +68,7 @@ class ObjSceneBuilder {
     std::span<const SceneAdditions::Motion> motions_;
     std::vector<dmat4> close_;                // where each motion puts its objects at shutter close
     std::vector<glm::dmat3> close_normals_;  // and their normals
-    std::map<std::pair<std::string, bool>, int> textures_;  // (file, clamp) -> texture
+    std::map<std::tuple<std::string, bool, int>, int> textures_;  // (file, clamp, encoding) -> texture
     size_t texture_bytes_ = kMaxSceneTextureBytes;  // what the textures may still take
 };
 
@@ -108,19 +111,29 @@ Material ObjSceneBuilder::convert(const tinyobj::material_t& source) {
         out.reflectance = glm::min(out.specular, vec3(1.0f));
     if (!source.diffuse_texname.empty())
         out.base_color_texture.index = texture(source.diffuse_texname, source.diffuse_texopt.clamp, what + " map_Kd");
+    // `norm` (the PBR extension's tangent-space normal map, -bm its scale) is
+    // glTF's normalTexture; map_Bump is a height map, which is not read.
+    if (!source.normal_texname.empty()) {
+        out.normal_texture.index =
+            texture(source.normal_texname, source.normal_texopt.clamp, what + " norm", Texture::Encoding::Linear);
+        const double scale = source.normal_texopt.bump_multiplier;
+        if (!std::isfinite(scale)) fail(what + " norm -bm is not a finite number");
+        out.normal_scale = float(std::clamp(scale, -1e4, 1e4));
+    }
     return out;
 }
 
-int ObjSceneBuilder::texture(const std::string& file, bool clamp, const std::string& what) {
-    const auto key = std::make_pair(file, clamp);
+int ObjSceneBuilder::texture(const std::string& file, bool clamp, const std::string& what,
+                             Texture::Encoding encoding) {
+    const auto key = std::make_tuple(file, clamp, int(encoding));
     if (const auto cached = textures_.find(key); cached != textures_.end()) return cached->second;
     int& mapped = textures_[key];
     mapped = -1;
     const auto bytes = folder_.read(file, what);
     std::string problem = "not found";
     std::optional<Texture> decoded;
-    if (bytes) decoded = decode_texture(*bytes, name_ + ": " + what + " " + in_quotes(file), Texture::Encoding::Srgb,
-                                        texture_bytes_, problem);
+    if (bytes) decoded = decode_texture(*bytes, name_ + ": " + what + " " + in_quotes(file), encoding, texture_bytes_,
+                                        problem);
     if (!decoded) {
         loaded_.scene.warnings.push_back(name_ + ": " + what + " " + in_quotes(file) + " " + problem +
                                          ": texture ignored");

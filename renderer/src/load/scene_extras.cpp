@@ -94,11 +94,17 @@ SceneAdditions read_scene_extras(std::string_view json, const std::string& sourc
     }
     for (int i = 0; i < extras.lights_size(); ++i)
         additions.lights.push_back(read_light(extras.lights(i), source + ".lights[" + std::to_string(i) + "]"));
-    if (extras.background_size() == 3) additions.background = vector_or(extras.background(), vec3(0.0f));
+    additions.background = background_from(
+        extras.background(), extras.has_background_gradient() ? &extras.background_gradient() : nullptr,
+        source + ".background_gradient");
     for (int i = 0; i < extras.cameras_size(); ++i) {
         const auto& camera = extras.cameras(i);
         const std::string name =
             camera.name().empty() ? source + ".cameras[" + std::to_string(i) + "]" : camera.name();
+        // Refused here, not first when the camera renders.
+        if (camera.camera().projection() == ORTHOGRAPHIC && !camera.camera().has_ortho_height())
+            throw std::invalid_argument(source + ".cameras[" + std::to_string(i) +
+                                        "].camera.ortho_height: is required for an ORTHOGRAPHIC camera");
         additions.cameras.push_back({name, camera.camera()});
     }
     for (int i = 0; i < extras.motions_size(); ++i)

@@ -1,5 +1,5 @@
 // What glTF and OBJ cannot say about a scene: analytic spheres, spherical lights,
-// the background colour, named cameras, nodes that move. Read from the sidecar `<scene>.rt.json`
+// the background, named cameras, nodes that move. Read from the sidecar `<scene>.rt.json`
 // or a glTF `extras.rt` object, both the JSON form of rt.SceneExtras
 // (proto/rt/scene.proto), and validated against that schema's limits.
 //
@@ -34,7 +34,7 @@ struct SceneAdditions {
     };
     std::vector<ShadedSphere> spheres;
     std::vector<Light> lights;
-    std::optional<vec3> background;
+    std::optional<Background> background;
     std::vector<SceneCamera> cameras;
     std::vector<Motion> motions;
 };
