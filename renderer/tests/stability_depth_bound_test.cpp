@@ -57,8 +57,9 @@ TEST(StabilityDepthBound, MaxDepth64FinishesWithinTheCutoffsBound) {
         const double bound = closest_rays_bound(64, settings.min_contribution(), d.branches);
         EXPECT_LE(double(run.most_closest_rays), bound) << d.name;
         // The ray counts are the bound; this only says the bound is small. A
-        // tree doubling at each of 64 depths would take years.
-        EXPECT_LT(run.seconds, 10.0) << d.name;
+        // tree doubling at each of 64 depths would take years; a minute leaves
+        // room for a sanitizer build on a busy 2-core machine.
+        EXPECT_LT(run.seconds, 60.0) << d.name;
     }
 }
 
