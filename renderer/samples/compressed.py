@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
-"""Write the compressed bunnies into --out (make samples), from --scenes/bunny.glb.
+"""Write the compressed bunnies (from --scenes/bunny.glb) and the WebP product model into --out (make samples).
 
     bunny_draco.glb      gltf-pipeline -d             (KHR_draco_mesh_compression)
     bunny_meshopt.glb    gltf-transform meshopt       (EXT_meshopt_compression, KHR_mesh_quantization)
     bunny_quantized.glb  gltf-transform quantize      (KHR_mesh_quantization)
+    product_webp.glb     gltf-transform webp          (EXT_texture_webp, from make_assets.py's product.glb)
 
 They go beside the test assets, not the sample scenes, so that the viewer's
 scene list (every .glb of the scenes folder) stays as it was. The tools are the
@@ -48,6 +49,9 @@ def commands(source: Path, target: Path) -> dict[str, list[str]]:
                               *transform_bits[0]],
         "bunny_quantized.glb": [str(BIN / "gltf-transform"), "quantize", str(source), str(target),
                                 *transform_bits[1]],
+        # Lossless, so that the WebP textures decode to the PNGs' texels.
+        "product_webp.glb": [str(BIN / "gltf-transform"), "webp", str(target.parent / "product.glb"), str(target),
+                             "--lossless", "true"],
     }
 
 
@@ -80,9 +84,9 @@ def run(jobs: dict[str, list[str]], out: Path) -> None:
         sys.exit("compressed: " + "\n".join(failed))
 
 
-def inputs_hash(source: Path) -> str:
+def inputs_hash(source: Path, product: Path) -> str:
     digest = hashlib.sha256()
-    for path in (source, Path(__file__), HERE / "package-lock.json"):
+    for path in (source, product, Path(__file__), HERE / "package-lock.json"):
         digest.update(path.read_bytes() + b"\0")
     return digest.hexdigest()
 
@@ -92,14 +96,16 @@ def main() -> int:
     parser.add_argument("--scenes", type=Path, required=True, help="the sample scenes (holding bunny.glb)")
     parser.add_argument("--out", type=Path, required=True, help="folder for the compressed files")
     args = parser.parse_args()
-    source = args.scenes / "bunny.glb"
+    source, product = args.scenes / "bunny.glb", args.out / "product.glb"
     if not source.is_file():
         sys.exit(f"compressed: {source} is missing: run make_samples.py first")
+    if not product.is_file():
+        sys.exit(f"compressed: {product} is missing: run make_assets.py first")
     sys.path.insert(0, str(HERE))
     from make_samples import ensure_node_modules  # noqa: E402
     ensure_node_modules()
 
-    digest = inputs_hash(source)
+    digest = inputs_hash(source, product)
     stamp = args.out / STAMP
     jobs = commands(source, args.out / "NAME")
     try:

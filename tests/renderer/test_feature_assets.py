@@ -54,3 +54,12 @@ def test_masked_texels_are_holes_in_the_image_and_the_shadow(assets_dir, tmp_pat
     difference = lit.sum(axis=2) - square.sum(axis=2)
     assert (difference > 0.05).sum() > 50, "the masked corners of the quad are holes"
     assert (difference < -0.05).sum() < 0.01 * difference.size
+
+
+def test_the_webp_product_model_renders_as_the_png_one(assets_dir):
+    # gltf-transform webp --lossless: the same texels in another container.
+    png = rtcore.Scene.load(str(assets_dir / "product.glb"))
+    webp = rtcore.Scene.load(str(assets_dir / "product_webp.glb"))
+    reference = render(png)
+    assert reference.max() > 0.1
+    np.testing.assert_array_equal(render(webp), reference)
