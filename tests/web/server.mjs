@@ -2,7 +2,7 @@
 // RT_DATA_DIR, the sample scenes from build/scenes and the viewer from web/dist;
 // stop() ends it (and only it).
 import { spawn } from "node:child_process";
-import { createWriteStream, existsSync, mkdtempSync, rmSync } from "node:fs";
+import { createWriteStream, existsSync, mkdirSync, mkdtempSync, rmSync } from "node:fs";
 import { createServer } from "node:net";
 import { tmpdir } from "node:os";
 import { join, resolve } from "node:path";
@@ -51,6 +51,7 @@ export async function startServer({ artifacts, timeoutMs = 90_000, token = "", s
   }
   const port = await freePort();
   const dataDir = mkdtempSync(join(tmpdir(), "rt-web-test-"));
+  mkdirSync(artifacts, { recursive: true });  // a clean checkout has none yet
   const log = join(artifacts, `${name}.log`);
   const out = createWriteStream(log);
   const child = spawn(python, ["-m", "app"], {
