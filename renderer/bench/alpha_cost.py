@@ -12,30 +12,24 @@ time and their ratio. Part of `make bench`.
 from __future__ import annotations
 
 import argparse
-import json
 import re
 import statistics
-import struct
 import subprocess
 import sys
 import tempfile
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "samples"))
+from glb import with_json  # noqa: E402
+
 RENDER = re.compile(r"render (?P<ms>[\d.]+) ms, (?P<mrays>[\d.]+) Mrays/s")
 
 
-def opaque_copy(glb: bytes) -> bytes:
-    """The GLB with alphaMode removed from every material (same chunks otherwise)."""
-    length, _ = struct.unpack_from("<II", glb, 12)
-    doc = json.loads(glb[20:20 + length])
+def make_opaque(doc: dict) -> None:
+    """Every material OPAQUE (same geometry, same textures)."""
     for material in doc.get("materials", []):
         material.pop("alphaMode", None)
         material.pop("alphaCutoff", None)
-    text = json.dumps(doc, separators=(",", ":")).encode()
-    text += b" " * (-len(text) % 4)
-    rest = glb[20 + length:]
-    header = struct.pack("<4sII", b"glTF", 2, 12 + 8 + len(text) + len(rest))
-    return header + struct.pack("<II", len(text), 0x4E4F534A) + text + rest
 
 
 def render_ms(rtrender: Path, scene: Path, out: Path, args: argparse.Namespace) -> float:
@@ -63,7 +57,7 @@ def main() -> int:
     masked = args.assets / "product.glb"
     with tempfile.TemporaryDirectory() as folder:
         opaque = Path(folder) / "product_opaque.glb"
-        opaque.write_bytes(opaque_copy(masked.read_bytes()))
+        opaque.write_bytes(with_json(masked.read_bytes(), make_opaque))
         times: dict[str, list[float]] = {"masked": [], "opaque": []}
         for _ in range(args.runs):
             for name, scene in (("masked", masked), ("opaque", opaque)):

@@ -115,22 +115,7 @@ struct MeshoptDoc {
     Bytes glb() const {
         Json out = doc.json;
         out["buffers"] = {{{"byteLength", streams.size()}}, fallback_buffer(fallback_bytes)};
-        std::string text = out.dump();
-        while (text.size() % 4 != 0) text += ' ';
-        Bytes bin = streams;
-        while (bin.size() % 4 != 0) bin.push_back(0);
-        Bytes glb;
-        const auto u32 = [&](uint32_t v) { append(glb, std::vector<uint32_t>{v}); };
-        u32(0x46546C67u);  // "glTF"
-        u32(2);
-        u32(uint32_t(12 + 8 + text.size() + 8 + bin.size()));
-        u32(uint32_t(text.size()));
-        u32(0x4E4F534Au);
-        glb.insert(glb.end(), text.begin(), text.end());
-        u32(uint32_t(bin.size()));
-        u32(0x004E4942u);
-        glb.insert(glb.end(), bin.begin(), bin.end());
-        return glb;
+        return glb_container(out, streams);
     }
     std::string error() const { return scene_error([&] { load_text(text(), "m.gltf"); }); }
 };

@@ -92,6 +92,25 @@ inline Bytes png(int width, int height, const std::vector<unsigned char>& rgb) {
 
 // A minimal glTF document: one buffer holding `data` (as a data: URI), and
 // helpers to describe views and accessors into it.
+// A GLB of `doc` (the JSON chunk, padded with spaces) and `bin` (the BIN chunk, padded with zeros).
+inline Bytes glb_container(const Json& doc, Bytes bin) {
+    std::string text = doc.dump();
+    while (text.size() % 4 != 0) text += ' ';
+    while (bin.size() % 4 != 0) bin.push_back(0);
+    Bytes glb;
+    const auto u32 = [&](uint32_t v) { append(glb, std::vector<uint32_t>{v}); };
+    u32(0x46546C67u);  // "glTF"
+    u32(2);
+    u32(uint32_t(12 + 8 + text.size() + 8 + bin.size()));
+    u32(uint32_t(text.size()));
+    u32(0x4E4F534Au);  // JSON
+    glb.insert(glb.end(), text.begin(), text.end());
+    u32(uint32_t(bin.size()));
+    u32(0x004E4942u);  // BIN
+    glb.insert(glb.end(), bin.begin(), bin.end());
+    return glb;
+}
+
 struct GltfDoc {
     Json json = Json::parse(R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": []}],
                                 "nodes": [], "meshes": [], "buffers": [], "bufferViews": [], "accessors": []})");
@@ -143,22 +162,7 @@ struct GltfDoc {
     Bytes glb() const {
         Json out = json;
         out["buffers"] = Json::array({{{"byteLength", data.size()}}});
-        std::string text = out.dump();
-        while (text.size() % 4 != 0) text += ' ';
-        Bytes bin = data;
-        while (bin.size() % 4 != 0) bin.push_back(0);
-        Bytes glb;
-        const auto u32 = [&](uint32_t v) { append(glb, std::vector<uint32_t>{v}); };
-        u32(0x46546C67u);  // "glTF"
-        u32(2);
-        u32(uint32_t(12 + 8 + text.size() + 8 + bin.size()));
-        u32(uint32_t(text.size()));
-        u32(0x4E4F534Au);
-        glb.insert(glb.end(), text.begin(), text.end());
-        u32(uint32_t(bin.size()));
-        u32(0x004E4942u);
-        glb.insert(glb.end(), bin.begin(), bin.end());
-        return glb;
+        return glb_container(out, data);
     }
 };
 

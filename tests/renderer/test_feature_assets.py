@@ -1,13 +1,16 @@
 """The feature assets of docs/gltf.md rendered through rtcore: what each one
 shows must be what its feature means."""
-import json
-import struct
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import rtcore
 from rt import render_pb2
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "renderer" / "samples"))
+from glb import with_json  # noqa: E402
 
 
 def render(scene, **fields) -> np.ndarray:
@@ -38,16 +41,9 @@ def test_masked_texels_are_holes_in_the_image_and_the_shadow(assets_dir, tmp_pat
     scene = rtcore.Scene.load(str(assets_dir / "alpha_modes.glb"))
     lit = render(scene)
     # The same file with the mask off: the leaf's quad is a full square.
-    data = (assets_dir / "alpha_modes.glb").read_bytes()
-    length, _ = struct.unpack_from("<II", data, 12)
-    doc = json.loads(data[20:20 + length])
-    doc["materials"][0].pop("alphaMode")
-    text = json.dumps(doc).encode()
-    text += b" " * (-len(text) % 4)
-    rest = data[20 + length:]
-    opaque = struct.pack("<4sII", b"glTF", 2, 20 + len(text) + len(rest)) + struct.pack("<II", len(text), 0x4E4F534A)
     path = tmp_path / "alpha_modes_opaque.glb"
-    path.write_bytes(opaque + text + rest)
+    path.write_bytes(with_json((assets_dir / "alpha_modes.glb").read_bytes(),
+                               lambda doc: doc["materials"][0].pop("alphaMode")))
     square = render(rtcore.Scene.load(str(path)))
     # The mask removes part of the quad from the image and of its shadow:
     # the masked render is brighter wherever the two differ, never darker.

@@ -41,7 +41,7 @@ class DecodeBudget {
 //   insists on data for every buffer; only compressed views may refer to it;
 // - gives each Draco primitive's indices accessor without a bufferView one to
 //   parse with (the extension's, or 0), as tinygltf refuses indices without one.
-// decode_meshopt() and decode_draco() replace what the stubs point at. Throws
+// decode_meshopt() and decode_draco() replace what the placeholders point at. Throws
 // SceneError prefixed with `scene_name`; returns whether `doc` changed.
 bool prepare_compressed_json(nlohmann::json& doc, const std::string& scene_name);
 

@@ -49,7 +49,10 @@ bool is_fallback(Json& buffer) {
     return fallback && fallback->is_boolean() && fallback->get<bool>();
 }
 
-bool stub_fallbacks(Json& doc) {
+// tinygltf 2.7 refuses a buffer without data, which is what a meshopt fallback
+// buffer is; a 4-byte placeholder lets it parse, and no view reads it once
+// decode_meshopt() has pointed the compressed views at their decoded bytes.
+bool add_fallback_placeholders(Json& doc) {
     Json* buffers = member(doc, "buffers");
     if (!buffers || !buffers->is_array()) return false;
     bool changed = false;
@@ -69,7 +72,7 @@ void check_meshopt_views(Json& doc, const std::string& name) {
         extension((*views)[i], kMeshopt, name + ": bufferViews[" + std::to_string(i) + "]." + kMeshopt);
 }
 
-// Checks every Draco extension object; stubs the indices accessors it must.
+// Checks every Draco extension object; gives the indices accessors it must a placeholder view.
 bool prepare_draco_primitives(Json& doc, const std::string& name) {
     Json* meshes = member(doc, "meshes");
     Json* accessors = member(doc, "accessors");
@@ -104,7 +107,7 @@ bool prepare_draco_primitives(Json& doc, const std::string& name) {
 bool prepare_compressed_json(nlohmann::json& doc, const std::string& scene_name) {
     check_meshopt_views(doc, scene_name);
     const bool draco = prepare_draco_primitives(doc, scene_name);
-    return stub_fallbacks(doc) || draco;
+    return add_fallback_placeholders(doc) || draco;
 }
 
 }  // namespace rt
