@@ -47,13 +47,22 @@ TEST(ThreadPool, CallersShareThePoolAndEachGetsItsOwnItems) {
 TEST(ThreadPool, AnItemsExceptionReachesItsCallerAndThePoolGoesOn) {
     ThreadPool pool(2);
     std::atomic<int> ran{0};
-    EXPECT_THROW(pool.parallel_for(10000,
+    std::atomic<bool> thrown{false};
+    // Items after the throwing one take a millisecond each, so the other thread cannot race
+    // through all of them between the throw and the pool's catch, however the threads are scheduled.
+    constexpr size_t kItems = 1000;
+    EXPECT_THROW(pool.parallel_for(kItems,
                                    [&](size_t i) {
                                        ++ran;
-                                       if (i == 3) throw std::runtime_error("item 3");
+                                       if (i == 3) {
+                                           thrown = true;
+                                           throw std::runtime_error("item 3");
+                                       }
+                                       if (i > 3) std::this_thread::sleep_for(std::chrono::milliseconds(1));
                                    }),
                  std::runtime_error);
-    EXPECT_LT(ran.load(), 10000) << "the items nobody had taken were skipped";
+    EXPECT_LT(ran.load(), int(kItems) / 2) << "the items nobody had taken were skipped";
+    EXPECT_TRUE(thrown.load());
     std::atomic<int> after{0};
     pool.parallel_for(50, [&](size_t) { ++after; });
     EXPECT_EQ(after.load(), 50);
