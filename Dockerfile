@@ -15,7 +15,7 @@ RUN python3 -m venv /opt/venv && /opt/venv/bin/pip install --no-cache-dir -r req
 COPY proto proto
 COPY renderer renderer
 # Portable code: the image may run on another CPU than the one that built it.
-RUN cmake -S renderer -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DRT_NATIVE=OFF -DRT_BENCH=OFF \
+RUN cmake -S renderer -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DRT_BENCH=OFF \
       -DPython_EXECUTABLE=/opt/venv/bin/python -DRT_RUNTIME_DIR=/src/build \
     && cmake --build build --target rtrender rtcore rt_proto_python
 

@@ -14,7 +14,7 @@ ASSETS  := $(BUILD)/assets
 APT_PACKAGES := cmake ninja-build g++ ccache pkg-config git python3 python3-venv python3-dev \
   libopenimageio-dev libglm-dev libtinygltf-dev libtinyobjloader-dev libstb-dev libwebp-dev \
   libdraco-dev libmeshoptimizer-dev nlohmann-json3-dev libprotobuf-dev protobuf-compiler libgtest-dev libembree-dev \
-  clang libclang-rt-14-dev
+  clang libclang-rt-14-dev qemu-user binutils
 
 CMAKE_FLAGS := -G Ninja -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=$(abspath $(PY)) \
   -DRT_RUNTIME_DIR=$(abspath $(BUILD))
@@ -81,12 +81,12 @@ test-cpp: build samples
 	cd $(BUILD)/renderer && ctest --output-on-failure -j $(JOBS)
 
 # Suites by name prefix: the loaders (Loader*), ray intersection (Triangle,
-# Sphere*, Spawn, Bvh, Accel), ProtoLimits and Stability*. The BVH's brute-force
+# Sphere*, Spawn, Bvh, WideBvh, Accel: every SIMD path), ProtoLimits and Stability*. The BVH's brute-force
 # comparisons on the large sample meshes (10,000 rays against every triangle)
 # stay in the release run.
 test-asan: build-asan samples
 	cd $(BUILD)/asan && ASAN_OPTIONS=detect_leaks=1 ctest --output-on-failure -j $(JOBS) \
-	  -R '^(Loader|Triangle|Sphere|Spawn|Bvh|Accel|ProtoLimits|Stability)' -E '^Bvh\.MatchesBruteForceOn(Dragon|Bunny)'
+	  -R '^(Loader|Triangle|Sphere|Spawn|Bvh|WideBvh|Accel|ProtoLimits|Stability)' -E '^Bvh\.MatchesBruteForceOn(Dragon|Bunny)'
 
 # Each fuzz target for FUZZ_SECONDS on the corpus it grew so far, seeded with
 # the hostile corpus and the small sample scenes. A crash, sanitizer report,
@@ -129,6 +129,7 @@ bench: build samples
 	$(PY) renderer/bench/report_table.py --scenes $(SCENES) --rtrender $(BUILD)/rtrender --out $(BUILD)/bench
 	$(PY) tests/bench/service_bench.py --scenes $(SCENES) --rtrender $(BUILD)/rtrender
 	$(PY) renderer/bench/alpha_cost.py --assets $(ASSETS) --rtrender $(BUILD)/rtrender
+	$(PY) renderer/bench/motion_cost.py --scenes $(SCENES) --rtrender $(BUILD)/rtrender
 	$(PY) renderer/bench/product_memory.py
 	$(PY) tests/bench/compressed_load_bench.py --scenes $(SCENES) --out $(BUILD)/bench
 	$(MAKE) --no-print-directory fuzz FUZZ_SECONDS=$(BENCH_FUZZ_SECONDS)

@@ -32,7 +32,7 @@ REPORT_ROWS = [
 ]
 
 SUMMARY = re.compile(
-    r"(?P<tris>\d+) triangles.*depth (?P<depth>\d+), build (?P<build>[\d.]+) ms, "
+    r"(?P<tris>\d+) triangles.*depth (?P<depth>\d+) \((?P<simd>\w+) kernels\), build (?P<build>[\d.]+) ms, "
     r"render (?P<render>[\d.]+) ms, (?P<mrays>[\d.]+) Mrays/s")
 
 

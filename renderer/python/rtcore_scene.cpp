@@ -187,6 +187,8 @@ nb::bytes PyScene::bvh_boxes(int level) const {
     message.set_total_levels(accel_->stats().depth + 1);
     message.mutable_nodes()->Add(boxes.nodes.begin(), boxes.nodes.end());
     message.mutable_leaf_triangles()->Add(boxes.triangles.begin(), boxes.triangles.end());
+    for (uint8_t leaf : boxes.leaf) message.add_leaf(leaf != 0);
+    message.set_node_width(rt::bvh::kWideWidth);
     auto* bounds = message.mutable_bounds();
     bounds->Reserve(int(boxes.bounds.size() * 6));
     for (const rt::Bounds3& b : boxes.bounds)

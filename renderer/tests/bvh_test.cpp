@@ -1,10 +1,12 @@
 // The BVH: hits against brute force, build determinism, structural invariants,
+// the builder's SAH against a plain binned builder, its leaf block pricing,
 // and the SIMD box test against the scalar one.
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <map>
 #include <random>
+#include <span>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -98,6 +100,101 @@ BuildInput build_input(const Scene& scene) {
     return input;
 }
 
+// Each primitive's centroid moved off its box's centre (still inside), so that
+// the builder cannot derive centroids from boxes.
+std::vector<vec3> off_centre_centroids(const BuildInput& input) {
+    std::vector<vec3> centroids;
+    for (const Bounds3& b : input.bounds) centroids.push_back(b.min + 0.3f * b.extent());
+    return centroids;
+}
+
+void expect_same_tree(const bvh::Bvh& a, const bvh::Bvh& b) {
+    ASSERT_EQ(a.nodes.size(), b.nodes.size());
+    EXPECT_EQ(0, std::memcmp(a.nodes.data(), b.nodes.data(), sizeof(bvh::Node) * a.nodes.size()));
+    EXPECT_EQ(a.prim_ids, b.prim_ids);
+    EXPECT_EQ(a.depth, b.depth);
+}
+
+// A plain binned SAH builder, written for clarity: every node's bounds from
+// its primitives, 32 bins on all three axes, primitives priced one each. The
+// builder under test must find trees at least as cheap.
+struct ReferenceBuilder {
+    std::span<const Bounds3> bounds;
+    std::span<const vec3> centroids;
+    float traversal_cost;
+    uint32_t max_leaf_size;
+    bvh::Bvh bvh;
+
+    static constexpr uint32_t kBins = 32;
+
+    bvh::Bvh run() {
+        for (uint32_t i = 0; i < bounds.size(); ++i) bvh.prim_ids.push_back(i);
+        bvh.nodes.resize(1);
+        build(0, 0, uint32_t(bounds.size()));
+        for (uint32_t level : bvh.node_levels()) bvh.depth = std::max(bvh.depth, level);
+        return std::move(bvh);
+    }
+
+    void build(uint32_t index, uint32_t begin, uint32_t end) {
+        Bounds3 box, centroid_box;
+        for (uint32_t i = begin; i < end; ++i) {
+            box.extend(bounds[bvh.prim_ids[i]]);
+            centroid_box.extend(centroids[bvh.prim_ids[i]]);
+        }
+        bvh.nodes[index].set_bounds(box);
+        bvh.nodes[index].first_child_or_first_prim = begin;
+        bvh.nodes[index].prim_count = end - begin;
+        const uint32_t count = end - begin;
+        if (count == 1) return;
+        float best_cost = kInfinity;
+        int best_axis = -1;
+        float best_position = 0.0f;
+        for (int axis = 0; axis < 3; ++axis) {
+            const float extent = centroid_box.extent()[axis];
+            if (!(extent > 0.0f)) continue;
+            for (uint32_t b = 1; b < kBins; ++b) {
+                const float position = centroid_box.min[axis] + extent * float(b) / float(kBins);
+                Bounds3 left, right;
+                uint32_t left_count = 0;
+                for (uint32_t i = begin; i < end; ++i) {
+                    const uint32_t id = bvh.prim_ids[i];
+                    if (centroids[id][axis] < position) {
+                        left.extend(bounds[id]);
+                        ++left_count;
+                    } else {
+                        right.extend(bounds[id]);
+                    }
+                }
+                if (left_count == 0 || left_count == count) continue;
+                const float cost = left.surface_area() * float(left_count) +
+                                   right.surface_area() * float(count - left_count);
+                if (cost < best_cost) best_cost = cost, best_axis = axis, best_position = position;
+            }
+        }
+        const float area = box.surface_area();
+        if (count <= max_leaf_size && !(traversal_cost * area + best_cost < float(count) * area)) return;
+        uint32_t middle = begin + count / 2;
+        if (best_axis >= 0) {
+            middle = uint32_t(std::partition(bvh.prim_ids.begin() + begin, bvh.prim_ids.begin() + end,
+                                             [&](uint32_t id) { return centroids[id][best_axis] < best_position; }) -
+                              bvh.prim_ids.begin());
+        }
+        const auto children = uint32_t(bvh.nodes.size());
+        bvh.nodes.resize(children + 2);
+        bvh.nodes[index].first_child_or_first_prim = children;
+        bvh.nodes[index].prim_count = 0;
+        build(children, begin, middle);
+        build(children + 1, middle, end);
+    }
+};
+
+std::map<uint32_t, size_t> leaf_size_histogram(const bvh::Bvh& bvh) {
+    std::map<uint32_t, size_t> sizes;
+    for (const bvh::Node& node : bvh.nodes)
+        if (node.is_leaf()) ++sizes[node.prim_count];
+    return sizes;
+}
+
 TEST(Bvh, MatchesBruteForceOnRandomSoup) { expect_matches_brute_force(random_soup(3000, 1), 10000); }
 TEST(Bvh, MatchesBruteForceOnIcosphere) { expect_matches_brute_force(icosphere(4), 10000); }
 TEST(Bvh, MatchesBruteForceOnGrid) { expect_matches_brute_force(grid(40), 10000); }
@@ -112,25 +209,108 @@ TEST(Bvh, MatchesBruteForceOnDragon4) { expect_matches_brute_force(sample_scene(
 TEST(Bvh, MatchesBruteForceOnDragon3) { expect_matches_brute_force(sample_scene("dragon_3.glb"), 10000); }
 TEST(Bvh, MatchesBruteForceOnBunny) { expect_matches_brute_force(sample_scene("bunny.glb"), 10000); }
 
+// 150000 primitives: the largest nodes are binned and partitioned block by
+// block, on several threads where there are.
 TEST(Bvh, BuildIsIndependentOfThreadCount) {
-    const BuildInput input = build_input(random_soup(60000, 3));
+    const BuildInput input = build_input(random_soup(150000, 3));
     bvh::BuildOptions options;
     options.threads = 1;
     const bvh::Bvh sequential = bvh::build_binned_sah(input.bounds, input.centroids, options);
-    options.threads = 8;
-    const bvh::Bvh parallel = bvh::build_binned_sah(input.bounds, input.centroids, options);
-    ASSERT_EQ(sequential.nodes.size(), parallel.nodes.size());
-    EXPECT_EQ(0, std::memcmp(sequential.nodes.data(), parallel.nodes.data(), sizeof(bvh::Node) * sequential.nodes.size()));
-    EXPECT_EQ(sequential.prim_ids, parallel.prim_ids);
-    EXPECT_EQ(sequential.depth, parallel.depth);
+    for (unsigned threads : {2u, 3u, 8u}) {
+        SCOPED_TRACE(threads);
+        options.threads = threads;
+        expect_same_tree(sequential, bvh::build_binned_sah(input.bounds, input.centroids, options));
+    }
+}
+
+TEST(Bvh, BuildIsIndependentOfThreadCountWithOffCentreCentroids) {
+    const BuildInput input = build_input(random_soup(80000, 9));
+    const std::vector<vec3> centroids = off_centre_centroids(input);
+    bvh::BuildOptions options;
+    options.leaf_block_size = 4;
+    options.threads = 1;
+    const bvh::Bvh sequential = bvh::build_binned_sah(input.bounds, centroids, options);
+    options.threads = 4;
+    expect_same_tree(sequential, bvh::build_binned_sah(input.bounds, centroids, options));
+}
+
+TEST(Bvh, BuildIsIndependentOfThreadCountOnDragon3) {
+    const BuildInput input = build_input(sample_scene("dragon_3.glb"));
+    bvh::BuildOptions options;
+    options.traversal_cost = 2.0f;
+    options.threads = 1;
+    const bvh::Bvh sequential = bvh::build_binned_sah(input.bounds, input.centroids, options);
+    options.threads = 2;
+    expect_same_tree(sequential, bvh::build_binned_sah(input.bounds, input.centroids, options));
+}
+
+TEST(Bvh, SahNoWorseThanPlainBinnedBuilder) {
+    for (const Scene& scene : {random_soup(5000, 10), icosphere(4), grid(50)}) {
+        const BuildInput input = build_input(scene);
+        for (float traversal_cost : {1.0f, 2.0f}) {
+            bvh::BuildOptions options;
+            options.traversal_cost = traversal_cost;
+            const bvh::Bvh built = bvh::build_binned_sah(input.bounds, input.centroids, options);
+            const bvh::Bvh reference =
+                ReferenceBuilder{input.bounds, input.centroids, traversal_cost, options.max_leaf_size, {}}.run();
+            expect_well_formed(reference, input.bounds, options.max_leaf_size);
+            // The reference places bin boundaries by a differently rounded
+            // formula, so its trees may be a hair cheaper or dearer.
+            EXPECT_LE(built.sah_cost(traversal_cost), reference.sah_cost(traversal_cost) * (1.0 + 1e-3))
+                << scene.triangles.size() << " triangles, traversal cost " << traversal_cost;
+        }
+    }
+}
+
+// Pricing leaves by blocks of 4 favours leaves that fill blocks: leaves of 1
+// to 3 primitives become rarer, and the tree stays well formed.
+TEST(Bvh, LeafBlocksFavourFullBlocks) {
+    const BuildInput input = build_input(random_soup(20000, 11));
+    bvh::BuildOptions options;
+    options.traversal_cost = 2.0f;
+    const bvh::Bvh single = bvh::build_binned_sah(input.bounds, input.centroids, options);
+    options.leaf_block_size = 4;
+    const bvh::Bvh blocks = bvh::build_binned_sah(input.bounds, input.centroids, options);
+    expect_well_formed(blocks, input.bounds, options.max_leaf_size);
+    auto partial_blocks = [](const bvh::Bvh& bvh) {
+        size_t partial = 0, leaves = 0;
+        for (const auto& [size, count] : leaf_size_histogram(bvh)) {
+            leaves += count;
+            if (size < 4) partial += count;
+        }
+        return double(partial) / double(leaves);
+    };
+    EXPECT_LT(partial_blocks(blocks), 0.5 * partial_blocks(single));
+    EXPECT_LT(blocks.leaf_count(), single.leaf_count());
+}
+
+// Blocks of one primitive costing 1 are the plain SAH: the same tree as the
+// defaults; and scaling both costs by 2, exactly, changes no decision.
+TEST(Bvh, LeafBlockDefaultsAreThePlainSah) {
+    const BuildInput input = build_input(random_soup(20000, 12));
+    bvh::BuildOptions options;
+    const bvh::Bvh plain = bvh::build_binned_sah(input.bounds, input.centroids, options);
+    options.leaf_block_size = 1;
+    options.block_cost = 1.0f;
+    expect_same_tree(plain, bvh::build_binned_sah(input.bounds, input.centroids, options));
+    options.leaf_block_size = 0;  // counts as 1
+    expect_same_tree(plain, bvh::build_binned_sah(input.bounds, input.centroids, options));
+    options.block_cost = 2.0f;
+    options.traversal_cost = 2.0f;
+    expect_same_tree(plain, bvh::build_binned_sah(input.bounds, input.centroids, options));
 }
 
 TEST(Bvh, TreesAreWellFormed) {
-    for (const Scene& scene : {random_soup(20000, 4), icosphere(5), grid(64), cube()}) {
+    for (const Scene& scene : {random_soup(20000, 4), random_soup(70000, 13), icosphere(5), grid(64), cube()}) {
         const BuildInput input = build_input(scene);
-        const bvh::BuildOptions options;
-        expect_well_formed(bvh::build_binned_sah(input.bounds, input.centroids, options), input.bounds,
-                           options.max_leaf_size);
+        for (uint32_t leaf_block_size : {1u, 4u}) {
+            bvh::BuildOptions options;
+            options.leaf_block_size = leaf_block_size;
+            expect_well_formed(bvh::build_binned_sah(input.bounds, input.centroids, options), input.bounds,
+                               options.max_leaf_size);
+            expect_well_formed(bvh::build_binned_sah(input.bounds, off_centre_centroids(input), options),
+                               input.bounds, options.max_leaf_size);
+        }
     }
 }
 
@@ -140,6 +320,19 @@ TEST(Bvh, EqualCentroidsStillGiveSmallLeaves) {
     const std::vector<vec3> centroids(1000, input.centroids[0]);
     const bvh::Bvh bvh = bvh::build_binned_sah(bounds, centroids);
     expect_well_formed(bvh, bounds, bvh::BuildOptions{}.max_leaf_size);
+}
+
+// Enough of them that the top nodes take the blocked path, which halves them too.
+TEST(Bvh, ManyEqualCentroidsStillGiveSmallLeaves) {
+    const BuildInput input = build_input(random_soup(1, 5));
+    const std::vector<Bounds3> bounds(70000, input.bounds[0]);
+    const std::vector<vec3> centroids(70000, input.centroids[0]);
+    bvh::BuildOptions options;
+    options.threads = 1;
+    const bvh::Bvh bvh = bvh::build_binned_sah(bounds, centroids, options);
+    expect_well_formed(bvh, bounds, options.max_leaf_size);
+    options.threads = 2;
+    expect_same_tree(bvh, bvh::build_binned_sah(bounds, centroids, options));
 }
 
 TEST(Bvh, SimdBoxTestMatchesScalar) {

@@ -114,7 +114,7 @@ def test_debug_path_records_the_ray_tree(cornell):
     primary = path.segments[0]
     assert primary.kind == debug_pb2.PRIMARY and primary.outcome == debug_pb2.HIT and primary.parent == -1
     assert len(primary.origin) == 3 and len(primary.end) == 3 and len(primary.normal) == 3
-    assert primary.visited_nodes, "the traversal is recorded"
+    assert primary.visited_nodes and primary.visited_leaves, "the traversal is recorded"
     shadows = [s for s in path.segments if s.kind == debug_pb2.SHADOW]
     assert shadows and all(s.outcome in (debug_pb2.OCCLUDED, debug_pb2.REACHED_LIGHT) for s in shadows)
     assert all(0 <= s.parent < len(path.segments) for s in path.segments[1:])
@@ -126,11 +126,32 @@ def test_debug_path_records_the_ray_tree(cornell):
 def test_bvh_boxes_cover_the_scene(cornell):
     root = debug_pb2.BvhBoxes.FromString(cornell.bvh_boxes(0))
     assert root.level == 0 and len(root.nodes) == 1 and len(root.bounds) == 6
-    assert root.leaf_triangles[0] == cornell.triangle_count
+    assert root.leaf_triangles[0] == cornell.triangle_count and list(root.leaf) == [False]
+    assert root.node_width == 8
     leaves = debug_pb2.BvhBoxes.FromString(cornell.bvh_boxes(-1))
     assert leaves.level == -1 and sum(leaves.leaf_triangles) == cornell.triangle_count
-    assert len(leaves.bounds) == 6 * len(leaves.nodes)
+    assert len(leaves.bounds) == 6 * len(leaves.nodes) and list(leaves.leaf) == [True] * len(leaves.nodes)
+    assert len(leaves.nodes) == cornell.bvh_stats["leaves"]
     assert root.total_levels == cornell.bvh_stats["depth"] + 1
+    # Every level's boxes: at most node_width children per node above, all nodes and leaves once.
+    levels = [debug_pb2.BvhBoxes.FromString(cornell.bvh_boxes(n)) for n in range(root.total_levels)]
+    for above, level in zip(levels, levels[1:]):
+        assert len(level.nodes) <= root.node_width * list(above.leaf).count(False)
+    assert sum(list(level.leaf).count(False) for level in levels) == cornell.bvh_stats["nodes"]
+    assert sorted(n for level in levels for n, leaf in zip(level.nodes, level.leaf) if leaf) == sorted(leaves.nodes)
+
+
+def test_bvh_cost_counts_what_the_debugger_records(scenes_dir):
+    # The BVH_COST layer and the debugger count the same traversal: wide nodes
+    # whose child boxes were tested, triangles in the leaf blocks tested.
+    bunny = rtcore.Scene.load(str(scenes_dir / "bunny.glb"))
+    camera = bunny.default_camera
+    cost = bunny.render_tile(camera, settings(), 0, 0, 48, 36, aux=["bvh_cost"])["bvh_cost"]
+    for x, y in [(24, 18), (20, 20), (30, 12), (0, 0)]:
+        path = debug_pb2.DebugPath.FromString(bunny.debug_path(camera, settings(), x, y))
+        nodes = sum(len(s.visited_nodes) for s in path.segments)
+        triangles = sum(s.triangles_tested for s in path.segments)
+        assert list(cost[y, x]) == [nodes, triangles], f"pixel ({x}, {y})"
 
 
 def test_glb_loads_from_bytes(scenes_dir):

@@ -78,7 +78,7 @@ def test_debug_ray_returns_the_ray_tree(client, cornell_id):
     assert path["pixel_x"] == 32 and path["pixel_y"] == 30
     kinds = [s["kind"] for s in path["segments"]]
     assert kinds[0] == "PRIMARY" and "SHADOW" in kinds
-    assert path["segments"][0]["outcome"] == "HIT"
+    assert path["segments"][0]["outcome"] == "HIT" and path["segments"][0]["visited_leaves"]
 
 
 @pytest.mark.parametrize("body, words", [
@@ -96,14 +96,73 @@ def test_debug_ray_refuses_bad_requests(client, cornell_id, body, words):
 
 def test_bvh_levels_and_leaves(client, cornell_id):
     root = client.get(f"/api/scenes/{cornell_id}/bvh?level=0").json()
-    assert len(root["bounds"]) == 6 and root["level"] == 0
+    assert len(root["bounds"]) == 6 and root["level"] == 0 and root["node_width"] == 8
+    assert root["nodes"] == [0] and root["leaf"] == [False] and root["leaf_triangles"] == [32]
+    # 32 triangles fit under one 8-wide node: its children are all leaves, one level down.
+    assert root["total_levels"] == 2
     level1 = client.get(f"/api/scenes/{cornell_id}/bvh?level=1").json()
-    assert len(level1["nodes"]) == 2 and sum(level1["leaf_triangles"]) == 32
+    assert 2 <= len(level1["nodes"]) <= root["node_width"] and sum(level1["leaf_triangles"]) == 32
+    assert level1["leaf"] == [True] * len(level1["nodes"])
     leaves = client.get(f"/api/scenes/{cornell_id}/bvh?leaves=1").json()
     assert leaves["level"] == -1 and sum(leaves["leaf_triangles"]) == 32
+    assert sorted(leaves["nodes"]) == sorted(level1["nodes"]) and all(leaves["leaf"])
     deep = client.get(f"/api/scenes/{cornell_id}/bvh?level={root['total_levels']}")
     assert deep.status_code == 422 and "past the deepest level" in deep.json()["detail"]
     assert client.get(f"/api/scenes/{cornell_id}/bvh?level=-1").status_code == 422
+
+
+@pytest.fixture(scope="module")
+def bunny(client, scenes_dir):
+    """The bunny (3,676 triangles) and every level of its tree: leaves sit at several levels."""
+    info = upload(client, scenes_dir / "bunny.glb").json()
+    root = client.get(f"/api/scenes/{info['id']}/bvh?level=0").json()
+    levels = [client.get(f"/api/scenes/{info['id']}/bvh?level={n}").json() for n in range(root["total_levels"])]
+    return info, levels, client.get(f"/api/scenes/{info['id']}/bvh?leaves=true").json()
+
+
+def test_bvh_levels_walk_the_wide_tree(bunny):
+    info, levels, leaves = bunny
+    width = levels[0]["node_width"]
+    assert width == 8 and all(level["node_width"] == width for level in levels)
+    assert len(levels) > 2, "a tree several levels deep"
+    above = 0  # triangles in the leaves of the levels above
+    for n, level in enumerate(levels):
+        assert level["level"] == n and len(level["nodes"]) == len(level["leaf"]) == len(level["leaf_triangles"])
+        assert len(level["bounds"]) == 6 * len(level["nodes"])
+        # Every triangle is under exactly one box of this level or in a leaf above it.
+        assert above + sum(level["leaf_triangles"]) == info["triangle_count"], f"level {n}"
+        above += sum(t for t, leaf in zip(level["leaf_triangles"], level["leaf"]) if leaf)
+        if n:
+            inner_above = levels[n - 1]["leaf"].count(False)
+            assert 0 < len(level["nodes"]) <= width * inner_above, f"level {n}: at most {width} children per node"
+    assert all(levels[-1]["leaf"]), "the deepest level is all leaves"
+    assert levels[0]["leaf"] == [False], "the root is a node"
+    # One number per box: the nodes are 0..N-1, a leaf's number comes after them.
+    inner = [i for level in levels for i, leaf in zip(level["nodes"], level["leaf"]) if not leaf]
+    assert sorted(inner) == list(range(len(inner)))
+    leaf_numbers = [i for level in levels for i, leaf in zip(level["nodes"], level["leaf"]) if leaf]
+    assert min(leaf_numbers) >= len(inner)
+    assert sorted(leaf_numbers) == sorted(leaves["nodes"]) and len(set(leaf_numbers)) == len(leaf_numbers)
+    assert leaves["leaf"] == [True] * len(leaves["nodes"])
+    assert sum(leaves["leaf_triangles"]) == info["triangle_count"]
+
+
+def test_debug_path_visits_boxes_of_the_tree(client, bunny):
+    info, levels, leaves = bunny
+    inner = {i for level in levels for i, leaf in zip(level["nodes"], level["leaf"]) if not leaf}
+    leaf_triangles = dict(zip(leaves["nodes"], leaves["leaf_triangles"]))
+    body = {"settings": {"width": 64, "height": 48}, "pixel": [32, 24]}
+    path = client.post(f"/api/scenes/{info['id']}/debug-ray", json=body).json()
+    assert path["segments"][0]["outcome"] == "HIT" and path["segments"][0]["visited_leaves"]
+    for i, s in enumerate(path["segments"]):
+        assert s["visited_nodes"][0] == 0, "every ray starts at the root"
+        assert set(s["visited_nodes"]) <= inner, f"segment {i}: visited nodes are the tree's nodes"
+        assert set(s["visited_leaves"]) <= leaf_triangles.keys(), f"segment {i}: visited leaves are the tree's leaves"
+        tested = sum(leaf_triangles[leaf] for leaf in s["visited_leaves"])
+        if s["kind"] == "SHADOW":
+            assert s["triangles_tested"] <= tested  # an any-hit query may stop inside a leaf
+        else:
+            assert s["triangles_tested"] == tested, f"segment {i}: every triangle of the leaves it entered"
 
 
 def test_delete_removes_the_scene(client, scenes_dir):

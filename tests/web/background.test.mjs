@@ -85,10 +85,13 @@ function imagePixels(jobId, points) {
 async function renderThisView() {
   await page.fill("#setting-width", String(WIDTH));
   await page.fill("#setting-height", String(HEIGHT));
+  const before = page.url();
   await page.click("#render-button");
-  await page.waitForURL(/\/jobs\/[0-9a-f]+$/, { timeout: 15_000 });
-  await page.waitForFunction(() => document.querySelector("#job-state").textContent === "done", null, { timeout: 60_000 });
+  // A new job's address: the page may still be at the previous job's.
+  await page.waitForURL((url) => /\/jobs\/[0-9a-f]+$/.test(url.pathname) && url.href !== before, { timeout: 15_000 });
   const id = page.url().split("/").pop();
+  await page.waitForFunction((id) => window.rt.state.job?.id === id
+    && document.querySelector("#job-state").textContent === "done", id, { timeout: 60_000 });
   return (await (await fetch(`${server.url}/api/jobs/${id}`)).json());
 }
 

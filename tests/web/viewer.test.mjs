@@ -1,7 +1,8 @@
 // The viewer in a real browser (headless Debian chromium) against the real job
 // service: upload, render with tiles streaming, the finished canvas against
-// image.png, a reload of /jobs/<id>, the pixel debugger, the BVH slider, a
-// refused upload, a narrow window, and the frame rate with the full dragon.
+// image.png, a reload of /jobs/<id>, the pixel debugger, the BVH slider (the
+// renderer's wide tree, its leaves told apart), a refused upload, a narrow
+// window, and the frame rate with the full dragon.
 // Screenshots of each step go to test-artifacts/web/.
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
@@ -240,7 +241,13 @@ describe("rt viewer", { timeout: 170_000 }, () => {
     });
     const stats = await page.textContent("#pixel-stats");
     const nodes = expected.segments.reduce((n, s) => n + s.visited_nodes.length, 0);
+    const leaves = expected.segments.reduce((n, s) => n + s.visited_leaves.length, 0);
+    const triangles = expected.segments.reduce((n, s) => n + s.triangles_tested, 0);
+    assert.ok(leaves > 0, "the rays entered leaves");
     assert.match(stats, new RegExp(`BVH nodes visited${nodes.toLocaleString("en-US")}`));
+    assert.match(stats, new RegExp(`BVH leaves visited${leaves.toLocaleString("en-US")}`));
+    assert.match(stats, new RegExp(`Triangles tested${triangles.toLocaleString("en-US")}`));
+    shared.path = expected;
     // Turn the view (the job's camera sees the primary ray end-on), then hover
     // the primary ray near its hit: its numbers appear.
     await page.evaluate(() => {
@@ -260,34 +267,91 @@ describe("rt viewer", { timeout: 170_000 }, () => {
     });
     await page.mouse.move(middle[0], middle[1]);
     await waitIn(() => !document.getElementById("ray-tooltip").hidden, null, "the hover tooltip");
-    assert.match(await page.textContent("#ray-tooltip"), /#0 primary, hit/);
+    const tooltip = await page.textContent("#ray-tooltip");
+    assert.match(tooltip, /#0 primary, hit/);
+    const primary = expected.segments[0];
+    const leafWord = primary.visited_leaves.length === 1 ? "leaf" : "leaves";
+    assert.ok(tooltip.includes(`BVH visited${primary.visited_nodes.length} nodes, ${primary.visited_leaves.length} ${leafWord}`), tooltip);
+    assert.ok(tooltip.includes(`triangles tested${primary.triangles_tested}`), tooltip);
     await screenshot(page, "pixel-debugged");
   });
 
-  test("the BVH slider shows as many boxes as /bvh?level=N", async () => {
-    await waitIn(() => Number(document.getElementById("bvh-level").max) > 3, null, "the BVH depth");
+  test("the BVH slider walks the renderer's tree: as many boxes as /bvh?level=N, leaves told apart", async () => {
+    const root = await api(`/api/scenes/${shared.scene}/bvh?level=0`);
+    const deepest = root.total_levels - 1;
+    assert.ok(deepest >= 1, "a tree below the root");
+    await waitIn((n) => Number(document.getElementById("bvh-level").max) === n, deepest, "the BVH depth");
+    // The legend says what the tree is, from node_width.
+    const legend = await page.evaluate(() => {
+      const el = document.getElementById("bvh-legend");
+      return { hidden: el.hidden, text: el.textContent, width: el.dataset.nodeWidth };
+    });
+    assert.equal(root.node_width, 8);
+    assert.ok(!legend.hidden, "the tree's legend is shown");
+    assert.equal(legend.width, String(root.node_width));
+    assert.match(legend.text, new RegExp(`^${root.node_width}-wide BVH: .*up to ${root.node_width} child boxes`));
+    assert.match(legend.text, /node box.*leaf box/);
     await page.check("#bvh-show");
     await page.focus("#bvh-level");
-    for (const level of [1, 2, 3]) {
+    const drawn = () => page.evaluate(() => {
+      const { bvh } = window.rt.debug;
+      const { position, color } = bvh.lines.geometry.attributes;
+      const label = document.getElementById("bvh-count");
+      // Vertices in the leaf swatch's colour (three.js keeps vertex colours linear).
+      const swatch = getComputedStyle(document.querySelector("#bvh-legend .box-kind:last-child .swatch")).backgroundColor;
+      const linear = swatch.match(/\d+/g).slice(0, 3).map((c) => {
+        const v = Number(c) / 255;
+        return v <= 0.04045 ? v / 12.92 : ((v + 0.055) / 1.055) ** 2.4;
+      });
+      let leafVertices = 0;
+      for (let v = 0; v < color.count; v++) {
+        if (linear.every((c, k) => Math.abs(color.array[v * 3 + k] - c) < 0.01)) leafVertices++;
+      }
+      return { boxes: bvh.shownBoxes, leaves: bvh.shownLeaves, vertices: position.count, leafVertices,
+        label: label.dataset.boxes, labelLeaves: label.dataset.leaves, text: label.textContent };
+    });
+    for (let level = 1; level <= deepest; level++) {
       await page.keyboard.press("ArrowRight");
       const expected = await api(`/api/scenes/${shared.scene}/bvh?level=${level}`);
       await waitIn((n) => window.rt.debug.bvh.level === n && window.rt.debug.bvh.data?.level === n, level, `BVH level ${level}`);
-      const shown = await page.evaluate(() => ({
-        boxes: window.rt.debug.bvh.shownBoxes,
-        vertices: window.rt.debug.bvh.lines.geometry.attributes.position.count,
-        label: document.getElementById("bvh-count").dataset.boxes,
-      }));
+      const shown = await drawn();
+      const leaves = expected.leaf.filter(Boolean).length;
       assert.equal(shown.boxes, expected.nodes.length, `level ${level} box count`);
       assert.equal(shown.vertices, expected.nodes.length * 24, "12 edges per box");
       assert.equal(Number(shown.label), expected.nodes.length);
+      assert.equal(shown.leaves, leaves, `level ${level} leaf count`);
+      assert.equal(Number(shown.labelLeaves), leaves);
+      assert.equal(shown.leafVertices, leaves * 24, `level ${level}: leaves in the leaf colour`);
+      const inLeaves = expected.leaf_triangles.reduce((n, t, i) => n + (expected.leaf[i] ? t : 0), 0);
+      const triangles = leaves ? ` \\(${inLeaves.toLocaleString("en-US")} triangles?\\)` : "";
+      assert.match(shown.text, new RegExp(`^${expected.nodes.length} boxes, ${leaves} (leaf|leaves)${triangles} · level ${level}/${deepest}$`));
     }
+    // Only the visited boxes: the deepest level holds only leaves, so what is
+    // shown there are the leaves whose triangles the pixel's rays tested.
     await page.check("#bvh-visited");
-    const visited = await page.evaluate(() => {
-      const nodes = new Set(window.rt.debug.rays.path.segments.flatMap((s) => Array.from(s.visitedNodes)));
-      const { data } = window.rt.debug.bvh;
-      return { shown: window.rt.debug.bvh.shownBoxes, expected: Array.from(data.nodes).filter((n) => nodes.has(n)).length };
-    });
-    assert.equal(visited.shown, visited.expected, "only the visited boxes");
+    const deep = await api(`/api/scenes/${shared.scene}/bvh?level=${deepest}`);
+    assert.ok(deep.leaf.every(Boolean), "the deepest level is all leaves");
+    const visitedLeaves = new Set(shared.path.segments.flatMap((s) => s.visited_leaves));
+    const visitedNodes = new Set(shared.path.segments.flatMap((s) => s.visited_nodes));
+    const expectedLeaves = deep.nodes.filter((n) => visitedLeaves.has(n)).length;
+    assert.ok(expectedLeaves > 0, "the rays entered some of the deepest leaves");
+    let shown = await drawn();
+    assert.equal(shown.boxes, expectedLeaves, "the visited leaves are shown");
+    assert.equal(shown.leaves, expectedLeaves);
+    assert.equal(shown.leafVertices, expectedLeaves * 24, "in the leaf colour");
+    // The triangles in the visited leaves: what the closest-hit rays among them tested.
+    const inVisited = deep.leaf_triangles.reduce((n, t, i) => n + (visitedLeaves.has(deep.nodes[i]) ? t : 0), 0);
+    assert.match(shown.text, new RegExp(`^${expectedLeaves} of ${deep.nodes.length} boxes, ${expectedLeaves} of ${deep.nodes.length} leaves \\(${inVisited} triangles?\\)`));
+    await screenshot(page, "bvh-visited-leaves");
+    // One level up, the visited nodes (and any visited leaves there).
+    await page.focus("#bvh-level");
+    await page.keyboard.press("ArrowLeft");
+    await waitIn((n) => window.rt.debug.bvh.data?.level === n, deepest - 1, `BVH level ${deepest - 1}`);
+    const upper = await api(`/api/scenes/${shared.scene}/bvh?level=${deepest - 1}`);
+    const expectedUpper = upper.nodes.filter((n, i) => (upper.leaf[i] ? visitedLeaves : visitedNodes).has(n)).length;
+    shown = await drawn();
+    assert.ok(expectedUpper > 0, "a visited box one level up");
+    assert.equal(shown.boxes, expectedUpper, "the visited nodes and leaves one level up");
     await screenshot(page, "bvh-level");
   });
 
@@ -329,8 +393,10 @@ describe("rt viewer", { timeout: 170_000 }, () => {
     await page.click("#render-button");
     await page.waitForURL((url) => url.href !== previous && /\/jobs\/[0-9a-f]+$/.test(url.href), { timeout: 15_000 });
     const jobId = page.url().split("/").pop();
-    await waitIn(() => document.querySelector("#job-state").textContent === "done" && window.rt.tiles._ended
-      && window.rt.tiles.queue.length === 0, null, "the motion-blurred, bloomed job", 60_000);
+    // The new job's own state: until it is opened, the panel still shows the previous job's "done".
+    await waitIn((id) => window.rt.state.job?.id === id && window.rt.tiles.jobId === id
+      && document.querySelector("#job-state").textContent === "done" && window.rt.tiles._ended
+      && window.rt.tiles.queue.length === 0, jobId, "the motion-blurred, bloomed job", 60_000);
     await screenshot(page, "motion-blur-bloom");
     const job = await api(`/api/jobs/${jobId}`);
     for (const key of ["position", "target", "up"]) {
@@ -443,7 +509,7 @@ describe("rt viewer", { timeout: 170_000 }, () => {
       const segments = Array.from({ length: 10_000 }, (_, i) => ({
         origin: [r(0), r(1), r(2)], end: [r(0), r(1), r(2)], kind: kinds[i % 5][0], outcome: kinds[i % 5][1],
         depth: 0, parent: i - 1, t: 1, normal: [0, 1, 0], material: 0, materialName: "", primitive: 0,
-        contribution: [0, 0, 0], weight: [1, 1, 1], visitedNodes: [], trianglesTested: 0,
+        contribution: [0, 0, 0], weight: [1, 1, 1], visitedNodes: [], visitedLeaves: [], trianglesTested: 0,
       }));
       debug.rays.show({ pixelX: 0, pixelY: 0, color: [0, 0, 0], segments }, state.scene.lights);
       return { rays: debug.rays.lineCount, boxes: debug.bvh.shownBoxes };

@@ -1,9 +1,11 @@
 // The visual debugger's controls: pick a pixel of the job's image (pointer, or
 // arrow keys and Enter), trace it with the job's own camera and settings, and
 // show its ray tree, its numbers and the BVH boxes (one level, or only those
-// the ray visited).
+// the ray visited: the nodes whose child boxes it tested and the leaves whose
+// triangles it tested).
 import { debugRay } from "./api.js";
-import { BvhBoxes } from "./bvh-boxes.js";
+import { BvhBoxes, visitedBoxes } from "./bvh-boxes.js";
+import { boxCountText, renderBvhLegend } from "./bvh-legend.js";
 import { DebugRays, pathStats, renderLegend } from "./debug-rays.js";
 import { RayHover } from "./ray-hover.js";
 
@@ -62,6 +64,7 @@ export class DebugPanel extends EventTarget {
     const level = $("bvh-level");
     const visited = $("bvh-visited");
     const count = $("bvh-count");
+    const legend = $("bvh-legend");
     show.addEventListener("change", () => this._guard(this.bvh.setVisible(show.checked)));
     let timer = null;
     level.addEventListener("input", () => {
@@ -74,11 +77,13 @@ export class DebugPanel extends EventTarget {
     });
     visited.addEventListener("change", () => this.bvh.setOnlyVisited(visited.checked));
     this.bvh.addEventListener("change", (e) => {
-      const { level: l, totalLevels, shown, total } = e.detail;
+      const { level: l, totalLevels, nodeWidth, shown, shownLeaves } = e.detail;
       if (totalLevels) level.max = String(totalLevels - 1);
       level.setAttribute("aria-valuetext", `level ${l} of ${Math.max(totalLevels - 1, 0)}`);
-      count.textContent = total ? `${shown === total ? total : `${shown} of ${total}`} boxes · level ${l}/${totalLevels - 1}` : "–";
+      count.textContent = boxCountText(e.detail);
       count.dataset.boxes = String(shown);
+      count.dataset.leaves = String(shownLeaves);
+      renderBvhLegend(legend, nodeWidth);
     });
     $("rays-show").addEventListener("change", (e) => this.rays.setVisible(e.target.checked));
     $("rays-clear").addEventListener("click", () => this.clear());
@@ -153,7 +158,7 @@ export class DebugPanel extends EventTarget {
     }
     const pinned = this.hover.pinned;
     const segments = pinned >= 0 ? [path.segments[pinned]] : path.segments;
-    this.bvh.setVisited(segments.flatMap((s) => Array.from(s.visitedNodes)));
+    this.bvh.setVisited(visitedBoxes(segments));
   }
 
   _showStats(path) {
@@ -165,6 +170,7 @@ export class DebugPanel extends EventTarget {
       ["Rays traced", `${s.rays}: ${s.primary} primary, ${s.reflection} reflection, ${s.refraction} refraction, ${s.shadow} shadow`],
       ["Shadow samples taken", String(s.shadow)],
       ["BVH nodes visited", s.nodes.toLocaleString()],
+      ["BVH leaves visited", s.leaves.toLocaleString()],
       ["Triangles tested", s.triangles.toLocaleString()],
     ];
     this.stats.replaceChildren(...rows.flatMap(([k, v]) => {

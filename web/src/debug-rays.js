@@ -36,12 +36,13 @@ export function categorize(segments, lights) {
   });
 }
 
-/** Sums over a path: rays by kind, BVH nodes visited, triangles tested. */
+/** Sums over a path: rays by kind, BVH nodes and leaves visited, triangles tested. */
 export function pathStats(path) {
-  const stats = { rays: path.segments.length, primary: 0, reflection: 0, refraction: 0, shadow: 0, nodes: 0, triangles: 0 };
+  const stats = { rays: path.segments.length, primary: 0, reflection: 0, refraction: 0, shadow: 0, nodes: 0, leaves: 0, triangles: 0 };
   for (const s of path.segments) {
     stats[enumName("RayKind", s.kind).toLowerCase()] += 1;
     stats.nodes += s.visitedNodes.length;
+    stats.leaves += s.visitedLeaves.length;
     stats.triangles += s.trianglesTested;
   }
   return stats;

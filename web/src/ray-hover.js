@@ -1,6 +1,7 @@
 // Hovering a ray segment in the 3D view shows its numbers (kind, outcome, t,
-// hit point, material, contribution, weight, BVH work); a click without a drag
-// pins it (and the BVH "visited" filter then follows that one ray).
+// hit point, material, contribution, weight, BVH nodes and leaves visited,
+// triangles tested); a click without a drag pins it (and the BVH "visited"
+// filter then follows that one ray).
 import * as THREE from "three";
 import { enumName } from "./proto.js";
 
@@ -25,8 +26,9 @@ export function describeSegment(segment, index) {
   }
   rows.push(["contribution", vec(segment.contribution)]);
   rows.push(["weight", vec(segment.weight)]);
-  rows.push(["BVH nodes", String(segment.visitedNodes.length)]);
-  rows.push(["triangles", String(segment.trianglesTested)]);
+  const leaves = segment.visitedLeaves.length;
+  rows.push(["BVH visited", `${segment.visitedNodes.length} nodes, ${leaves} ${leaves === 1 ? "leaf" : "leaves"}`]);
+  rows.push(["triangles tested", String(segment.trianglesTested)]);
   return rows;
 }
 

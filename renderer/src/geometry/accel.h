@@ -1,101 +1,95 @@
-// The scene's ray queries: a BVH over its triangles (bvh/) plus its analytic
-// spheres. This is the only interface the integrator, the debugger and rtcore use.
+// The scene's ray queries: an eight-wide BVH over its triangles (bvh/), with
+// the triangles in SIMD-ready leaf blocks, plus its analytic spheres. This is
+// the only interface the integrator, the debugger and rtcore use.
 //
-// In a moving scene each triangle's box is the union of its boxes at shutter
-// open and close, which holds it all the time in between since its vertices
-// move in straight lines; a ray meets the triangle as it is at ray.time.
+// The tree is built as a binary SAH tree (bvh/binned_sah_builder.h) and
+// collapsed (bvh/wide_collapse.h). The queries run the kernels of the widest
+// SIMD path the CPU has (util/cpu_features.h); every path returns the same hits.
+//
+// In a moving scene the tree is built over the union of each triangle's boxes
+// at shutter open and close, then each node keeps its children's boxes at
+// both times (bvh::refit_motion): a ray tests them interpolated to ray.time,
+// which hold the triangles then since their vertices move in straight lines,
+// and meets each triangle as it is at ray.time.
 #pragma once
 
-#include <array>
 #include <cstdint>
 #include <vector>
 
-#include "util/bounds.h"
-#include "bvh/bvh.h"
-#include "util/ray.h"
+#include "geometry/accel_data.h"
 #include "geometry/scene.h"
+#include "geometry/traversal_stats.h"
+#include "util/bounds.h"
+#include "util/cpu_features.h"
+#include "util/ray.h"
 
 namespace rt {
 
-// What one traversal did, for the debugger and the BVH-cost output.
-struct TraversalStats {
-    uint32_t nodes_visited = 0;     // nodes whose boxes were tested
-    uint32_t triangles_tested = 0;
-};
-
-struct TraversalRecord : TraversalStats {
-    std::vector<uint32_t> visited_nodes;  // in visiting order
-};
-
 struct AccelStats {
     size_t triangles = 0;
-    size_t nodes = 0;
+    size_t nodes = 0;       // wide nodes
     size_t leaves = 0;
-    uint32_t depth = 0;     // levels below the root
+    size_t leaf_blocks = 0;  // blocks of four triangle slots
+    uint32_t depth = 0;     // levels below the root, leaves included
     double build_ms = 0.0;
-    double sah_cost = 0.0;
+    double sah_cost = 0.0;  // bvh::WideBvh::sah_cost with the costs below
+    size_t node_bytes = 0;  // the wide nodes
+    size_t leaf_bytes = 0;  // the triangle blocks (both of them in a moving scene)
 };
 
 class Accelerator {
   public:
-    // Builds the BVH on `threads` threads (0: all cores). The scene must outlive this.
+    // Builds the BVH on `threads` threads (0: all cores). The scene must
+    // outlive this. `path` picks the kernels; by default simd_path().
     explicit Accelerator(const Scene& scene, unsigned threads = 0);
+    Accelerator(const Scene& scene, unsigned threads, SimdPath path);
 
     // Closest hit with 0 < t < ray.t_max, at ray.time. The overloads taking stats or a
     // record (here and below) add this traversal to what they already hold.
-    bool intersect(const Ray& ray, Hit& hit) const;
-    bool intersect(const Ray& ray, Hit& hit, TraversalStats& stats) const;
-    bool intersect(const Ray& ray, Hit& hit, TraversalRecord& record) const;
+    bool intersect(const Ray& ray, Hit& hit) const { return kernels_->intersect(data_, ray, hit); }
+    bool intersect(const Ray& ray, Hit& hit, TraversalStats& stats) const {
+        return kernels_->intersect_counted(data_, ray, hit, stats);
+    }
+    bool intersect(const Ray& ray, Hit& hit, TraversalRecord& record) const {
+        return kernels_->intersect_recorded(data_, ray, hit, record);
+    }
 
     // How much light passes along the ray for 0 < t < ray.t_max: 0 at the
     // first opaque hit (where the traversal stops), 1 with no hit, and the
     // product of (1 - alpha) over BLEND surfaces in between. MASK holes and
     // fully transparent texels are no hits, for these queries as for intersect.
-    float visibility(const Ray& ray) const;
-    float visibility(const Ray& ray, TraversalStats& stats) const;
-    float visibility(const Ray& ray, TraversalRecord& record) const;
+    float visibility(const Ray& ray) const { return kernels_->visibility(data_, ray); }
+    float visibility(const Ray& ray, TraversalStats& stats) const {
+        return kernels_->visibility_counted(data_, ray, stats);
+    }
+    float visibility(const Ray& ray, TraversalRecord& record) const {
+        return kernels_->visibility_recorded(data_, ray, record);
+    }
     // visibility() == 0.
     bool occluded(const Ray& ray) const { return visibility(ray) == 0.0f; }
     bool occluded(const Ray& ray, TraversalStats& stats) const { return visibility(ray, stats) == 0.0f; }
     bool occluded(const Ray& ray, TraversalRecord& record) const { return visibility(ray, record) == 0.0f; }
 
-    const bvh::Bvh& bvh() const { return bvh_; }
+    const bvh::WideBvh& wide_bvh() const { return data_.bvh; }
+    const std::vector<TriangleBlock>& blocks() const { return data_.blocks; }
     const AccelStats& stats() const { return stats_; }
-    const Scene& scene() const { return scene_; }
+    const Scene& scene() const { return *data_.scene; }
+    SimdPath simd() const { return path_; }
 
-    // Boxes of the nodes at one level (0 = root), or of all leaves (level < 0).
+    // Boxes of the tree at one level (0 = root), or of all leaves (level < 0),
+    // numbered as TraversalRecord::visited_nodes numbers them.
     struct LevelBoxes {
         std::vector<uint32_t> nodes;
         std::vector<Bounds3> bounds;
-        std::vector<uint32_t> triangles;  // triangles under each node
+        std::vector<uint32_t> triangles;  // triangles under each box
+        std::vector<uint8_t> leaf;        // 1 where the box is a leaf's
     };
     LevelBoxes boxes(int level) const;
 
   private:
-    // kMoving: the scene moves; kFiltered: some triangle's material has alpha
-    // (MASK or BLEND), and hits on it pass the hit filter. Template flags, so a
-    // still, opaque scene's leaves pay nothing for motion or alpha they do not have.
-    template <bool kMoving, bool kFiltered, typename Observer>
-    bool closest_hit(const Ray& ray, Hit& hit, Observer&& observer) const;
-    // Returns whether an opaque hit stopped the ray; scales `visibility` by
-    // the BLEND surfaces it passed.
-    template <bool kMoving, bool kFiltered, typename Observer>
-    bool any_hit(const Ray& ray, float& visibility, Observer&& observer) const;
-    template <typename Observer>
-    bool closest_hit(const Ray& ray, Hit& hit, Observer&& observer) const;
-    template <typename Observer>
-    float visibility_of(const Ray& ray, Observer&& observer) const;
-    // The vertices of the triangle at leaf position i as they are at `time`.
-    std::array<vec3, 3> moving_triangle(uint32_t i, float time) const;
-
-    const Scene& scene_;
-    bvh::Bvh bvh_;
-    // Triangle vertices in BVH leaf order, so a leaf reads contiguous memory:
-    // at shutter open, and at close when the scene moves (else empty).
-    std::vector<vec3> ordered_vertices_;  // 3 per triangle
-    std::vector<vec3> ordered_vertices_close_;
-    // 1 for each triangle, in leaf order, whose material has alpha; empty when none has.
-    std::vector<uint8_t> ordered_alpha_;
+    AccelData data_;
+    SimdPath path_;
+    const AccelKernels* kernels_;
     AccelStats stats_;
 };
 

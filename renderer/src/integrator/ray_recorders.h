@@ -91,6 +91,7 @@ struct DebugRecorder {
         segment.set_depth(depth);
         segment.set_parent(parent);
         segment.mutable_visited_nodes()->Add(record.visited_nodes.begin(), record.visited_nodes.end());
+        segment.mutable_visited_leaves()->Add(record.visited_leaves.begin(), record.visited_leaves.end());
         segment.set_triangles_tested(record.triangles_tested);
         return segment;
     }

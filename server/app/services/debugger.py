@@ -44,8 +44,9 @@ def _bvh_boxes(stored: StoredScene, level: int) -> debug_pb2.BvhBoxes:
 
 
 async def bvh_boxes(stored: StoredScene, level: int, leaves: bool) -> debug_pb2.BvhBoxes:
-    """The boxes of one BVH level (0 is the root), or every leaf box. Raises
-    Invalid for a level past the deepest."""
+    """The boxes of one level of the wide BVH the renderer traverses (0 is the
+    root; a node's up to node_width children, nodes and leaves, one level
+    down), or every leaf box. Raises Invalid for a level past the deepest."""
     boxes = await asyncio.to_thread(_bvh_boxes, stored, -1 if leaves else level)
     if not leaves and level >= boxes.total_levels:
         raise Invalid(f"level: {level} is past the deepest level {boxes.total_levels - 1}")

@@ -57,8 +57,10 @@ async def debug_ray(scene_id: str, request: Request, store: SceneStore = Depends
     return proto_json(await debugger.debug_ray(stored, await request.body()))
 
 
-@router.get("/{scene_id}/bvh", responses={200: json_response(debug_pb2.BvhBoxes, "The boxes of one BVH level")})
-async def bvh_boxes(scene_id: str, level: int = Query(0, ge=0, description="0 is the root"),
+@router.get("/{scene_id}/bvh", responses={200: json_response(
+    debug_pb2.BvhBoxes, "The boxes of one level of the wide BVH the renderer traverses")})
+async def bvh_boxes(scene_id: str,
+                    level: int = Query(0, ge=0, description="0 is the root; a node's children (nodes, leaves) below it"),
                     leaves: bool = Query(False, description="all leaf boxes instead of one level"),
                     store: SceneStore = Depends(scenes)):
     return proto_json(await debugger.bvh_boxes(scene_or_404(store, scene_id), level, leaves))

@@ -1,0 +1,121 @@
+// Front-to-back traversal of the eight-wide BVH for closest-hit and any-hit
+// queries, compiled once per SIMD path: the including file defines
+// `wide_box_test<kMoving>(node, box_ray, t_max, t_entry, close, time)` for its
+// instruction set and
+// includes this inside its ISA namespace (as Embree compiles its kernels once
+// per ISA, in namespace embree::isa). What the leaves hold is the caller's
+// business: it passes the leaf test.
+//
+// A closest-hit query takes the children a ray enters nearest first; the
+// others wait on a stack with their entry distance, and are dropped when
+// popped if a hit nearer than that has been found meanwhile. Ties go to the
+// lower slot, so every path visits the same nodes in the same order.
+
+// Sees what a traversal tests. The plain queries' observer does nothing and
+// compiles away.
+//   visit_node(i):  wide node i's eight child boxes are tested
+//   visit_leaf(id): a leaf's primitives are tested (WideBvh::leaf_id)
+// Raw bits rather than a ChildRef, whose default initialiser would have the
+// whole stack written for every ray.
+struct WidePending {
+    uint32_t ref;
+    float t_entry;
+};
+
+// A child put aside is fetched while the ray goes on: a node's four cache
+// lines here, a leaf's primitives by the caller's prefetch_leaf(ref). On
+// incoherent rays the traversal waits on memory more than it computes.
+template <typename PrefetchLeaf>
+[[gnu::always_inline]] inline void prefetch_child(const bvh::WideBvh& bvh, bvh::ChildRef ref, PrefetchLeaf& prefetch_leaf) {
+    if (ref.is_leaf()) {
+        prefetch_leaf(ref);
+        return;
+    }
+    const char* p = reinterpret_cast<const char*>(&bvh.nodes[ref.node()]);
+    for (size_t line = 0; line < sizeof(bvh::WideNode); line += 64) __builtin_prefetch(p + line);
+}
+
+// Pushes the children in `hits` (two or more) farthest first, and returns the nearest.
+template <typename PrefetchLeaf>
+[[gnu::always_inline]] inline bvh::ChildRef push_sorted(const bvh::WideBvh& bvh, const bvh::WideNode& node,
+                                                        uint32_t hits, const float* t_entry, WidePending* stack,
+                                                        uint32_t& stack_size, PrefetchLeaf& prefetch_leaf) {
+    // Entry distances are >= +0, so their bit patterns sort as the distances do;
+    // the slot in the low bits breaks ties.
+    uint64_t keys[bvh::kWideWidth];
+    uint32_t count = 0;
+    for (; hits != 0; hits &= hits - 1) {
+        const uint32_t slot = uint32_t(__builtin_ctz(hits));
+        uint32_t bits;
+        __builtin_memcpy(&bits, &t_entry[slot], sizeof bits);
+        const uint64_t key = uint64_t(bits) << 32 | slot;
+        // Insertion into descending order: the nearest ends up last.
+        uint32_t i = count++;
+        for (; i > 0 && keys[i - 1] < key; --i) keys[i] = keys[i - 1];
+        keys[i] = key;
+    }
+    for (uint32_t i = 0; i + 1 < count; ++i) {
+        const uint32_t slot = uint32_t(keys[i]);
+        prefetch_child(bvh, node.child[slot], prefetch_leaf);
+        stack[stack_size++] = {node.child[slot].bits, t_entry[slot]};
+    }
+    return node.child[uint32_t(keys[count - 1])];
+}
+
+// leaf_test(first_block, block_count, t_max) tests the leaf's primitives for
+// hits with t < t_max; for closest-hit queries it lowers t_max to the nearest
+// hit it finds. It returns whether it found one. Returns whether any leaf test did.
+// prefetch_leaf(leaf) starts fetching a leaf's primitives.
+// kMoving: the tree has boxes at shutter close too, interpolated to ray.time.
+template <bvh::Query query, bool kMoving, typename LeafTest, typename PrefetchLeaf, typename Observer>
+[[gnu::always_inline]] inline bool traverse_wide(const bvh::WideBvh& bvh, const Ray& ray, LeafTest&& leaf_test,
+                                                 PrefetchLeaf&& prefetch_leaf, Observer& observer) {
+    if (bvh.empty()) return false;
+    const bvh::WideBoxRay box_ray(ray);
+    float t_max = ray.t_max;
+    WidePending stack[bvh::kWideStackSize];
+    uint32_t stack_size = 0;
+    bvh::ChildRef current = bvh::ChildRef::inner(0);
+    bool found = false;
+    for (;;) {
+        if (!current.is_leaf()) {
+            const bvh::WideNode& node = bvh.nodes[current.node()];
+            observer.visit_node(current.node());
+            alignas(32) float t_entry[bvh::kWideWidth];
+            const uint32_t hits = wide_box_test<kMoving>(node, box_ray, t_max, t_entry,
+                                                         kMoving ? &bvh.close[current.node()] : nullptr, ray.time);
+            if (hits != 0) {
+                if ((hits & (hits - 1)) == 0) {
+                    current = node.child[__builtin_ctz(hits)];
+                } else if constexpr (query == bvh::Query::any_hit) {
+                    // Any hit ends the query, so order buys little: take the
+                    // children in slot order, as Embree's traverseAnyHit does.
+                    current = node.child[__builtin_ctz(hits)];
+                    for (uint32_t rest = hits & (hits - 1); rest != 0; rest &= rest - 1) {
+                        const bvh::ChildRef child = node.child[__builtin_ctz(rest)];
+                        prefetch_child(bvh, child, prefetch_leaf);
+                        stack[stack_size++] = {child.bits, 0.0f};
+                    }
+                } else {
+                    current = push_sorted(bvh, node, hits, t_entry, stack, stack_size, prefetch_leaf);
+                }
+                continue;
+            }
+        } else {
+            observer.visit_leaf(bvh.leaf_id(current));
+            if (leaf_test(current.first_block(), current.block_count(), t_max)) {
+                found = true;
+                if constexpr (query == bvh::Query::any_hit) return true;
+            }
+        }
+        for (;;) {
+            if (stack_size == 0) return found;
+            const WidePending& next = stack[--stack_size];
+            // An any-hit query's t_max never shrinks: whatever waits is still ahead.
+            if (query == bvh::Query::any_hit || next.t_entry < t_max) {
+                current = bvh::ChildRef{next.ref};
+                break;
+            }
+        }
+    }
+}

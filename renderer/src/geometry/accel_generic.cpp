@@ -1,0 +1,27 @@
+// The ray query kernels for any x86-64: SSE2 box and triangle tests.
+#include <type_traits>
+
+#include "bvh/traverse.h"
+#include "bvh/wide_box_test.h"
+#include "geometry/accel_data.h"
+#include "geometry/sphere.h"
+#include "geometry/surface_material.h"
+#include "geometry/triangle_block_test.h"
+
+namespace rt::generic {
+
+template <bool kMoving>
+[[gnu::always_inline]] inline uint32_t wide_box_test(const bvh::WideNode& node, const bvh::WideBoxRay& ray, float t_max,
+                                                     float* t_entry, const bvh::WideBoxes* close, float time) {
+    return bvh::wide_box_test_sse2<kMoving>(node, ray, t_max, t_entry, close, time);
+}
+
+[[gnu::always_inline]] inline uint32_t intersect_block_pair(const WatertightRay4& r, const TriangleBlock* const* pair,
+                                                           uint32_t count, float t_max, PairHits& hits) {
+    return intersect_block_pair_sse2(r, pair, count, t_max, hits);
+}
+
+#include "bvh/wide_traverse.inl"
+#include "geometry/accel_kernels.inl"
+
+}  // namespace rt::generic

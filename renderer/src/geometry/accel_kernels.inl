@@ -1,0 +1,180 @@
+// The scene's ray queries over the wide BVH and its triangle blocks, compiled
+// once per SIMD path: accel_generic.cpp and accel_avx2.cpp include this inside
+// their ISA namespace, after wide_box_test for that path and
+// bvh/wide_traverse.inl. Everything here is defined per ISA, so no function
+// compiled for AVX2 is ever shared with code that runs without it.
+//
+// kMoving: the scene moves; kFiltered: some triangle has alpha, and hits on it
+// pass the hit filter. Template flags, so a still, opaque scene's leaves pay
+// nothing for motion or alpha they do not have.
+
+template <bool kMoving>
+[[gnu::always_inline]] inline const TriangleBlock& block_at(const AccelData& data, uint32_t b, float time,
+                                                           TriangleBlock& moved) {
+    if constexpr (kMoving) {
+        lerp_block(data.blocks[b], data.blocks_motion[b], time, moved);
+        return moved;
+    } else {
+        return data.blocks[b];
+    }
+}
+
+template <typename Observer>
+[[gnu::always_inline]] inline void count_tested(Observer& observer, const TriangleBlock& block);
+
+// Blocks b and b + 1 (when before `end`) as they are at `time`, tested
+// together against one t_max by every path; returns how many there are.
+template <bool kMoving, typename Observer>
+[[gnu::always_inline]] inline uint32_t blocks_at(const AccelData& data, uint32_t b, uint32_t end, float time,
+                                                 TriangleBlock (&moved)[2], const TriangleBlock* (&pair)[2],
+                                                 Observer& observer) {
+    const uint32_t count = b + 1 < end ? 2 : 1;
+    for (uint32_t k = 0; k < count; ++k) {
+        pair[k] = &block_at<kMoving>(data, b + k, time, moved[k]);
+        count_tested(observer, *pair[k]);
+    }
+    return count;
+}
+
+// A leaf's blocks, 160 bytes each (and their motion in a moving scene).
+template <bool kMoving>
+[[gnu::always_inline]] inline void prefetch_blocks(const AccelData& data, bvh::ChildRef leaf) {
+    const char* first = reinterpret_cast<const char*>(&data.blocks[leaf.first_block()]);
+    const size_t bytes = size_t(leaf.block_count()) * sizeof(TriangleBlock);
+    for (size_t line = 0; line < bytes; line += 64) __builtin_prefetch(first + line);
+    if constexpr (kMoving) {
+        const char* motion = reinterpret_cast<const char*>(&data.blocks_motion[leaf.first_block()]);
+        for (size_t line = 0; line < bytes; line += 64) __builtin_prefetch(motion + line);
+    }
+}
+
+template <typename Observer>
+[[gnu::always_inline]] inline void count_tested(Observer& observer, const TriangleBlock& block) {
+    if constexpr (!std::is_same_v<Observer, SilentObserver>) {
+        uint32_t used = 0;
+        for (uint32_t lane = 0; lane < bvh::kBlockWidth; ++lane) used += block.lane_used(lane);
+        observer.test_triangles(used);
+    }
+}
+
+// flatten: the traversal, the leaf test and the triangle test become one
+// function, so the per-ray constants stay in registers.
+template <bool kMoving, bool kFiltered, typename Observer>
+[[gnu::flatten]] bool closest_hit(const AccelData& data, const Ray& ray, Hit& hit, Observer observer) {
+    const Scene& scene = *data.scene;
+    hit = Hit{};
+    // Spheres first: their hit shortens the ray the BVH has to follow.
+    Ray clipped = ray;
+    for (size_t s = 0; s < scene.spheres.size(); ++s) {
+        float t;
+        if (intersect_sphere(clipped, scene.spheres[s], t)) {
+            clipped.t_max = t;
+            hit = {t, uint32_t(scene.triangles.size() + s), 0.0f, 0.0f};
+        }
+    }
+    const WatertightRay4 watertight(WatertightRay{ray});
+    Hit nearest;
+    const bool found = traverse_wide<bvh::Query::closest_hit, kMoving>(
+        data.bvh, clipped,
+        [&](uint32_t first_block, uint32_t block_count, float& t_max) {
+            bool found_here = false;
+            const uint32_t end = first_block + block_count;
+            for (uint32_t b = first_block; b < end; b += 2) {
+                TriangleBlock moved[2];
+                const TriangleBlock* pair[2];
+                const uint32_t count = blocks_at<kMoving>(data, b, end, ray.time, moved, pair, observer);
+                PairHits hits;
+                uint32_t lanes = intersect_block_pair(watertight, pair, count, t_max, hits);
+                // Lane order with a strict `<`: among equal distances the first
+                // triangle wins, as in a loop of scalar tests.
+                for (; lanes != 0; lanes &= lanes - 1) {
+                    const uint32_t lane = uint32_t(__builtin_ctz(lanes));
+                    const TriangleBlock& block = *pair[lane >> 2];
+                    const uint32_t slot = lane & 3;
+                    if (!(hits.t(lane) < t_max)) continue;
+                    // A hole leaves the nearest hit as it was.
+                    if (kFiltered && block.has_alpha(slot) &&
+                        !(triangle_coverage(scene, block.triangle(slot), hits.u(lane), hits.v(lane)) > 0.0f))
+                        continue;
+                    t_max = hits.t(lane);
+                    nearest = {hits.t(lane), block.triangle(slot), hits.u(lane), hits.v(lane)};
+                    found_here = true;
+                }
+            }
+            return found_here;
+        },
+        [&](bvh::ChildRef leaf) { prefetch_blocks<kMoving>(data, leaf); }, observer);
+    if (found) hit = nearest;
+    return hit.found();
+}
+
+// Returns whether an opaque hit stopped the ray; scales `visibility` by the
+// BLEND surfaces it passed.
+template <bool kMoving, bool kFiltered, typename Observer>
+[[gnu::flatten]] bool any_hit(const AccelData& data, const Ray& ray, float& visibility, Observer observer) {
+    const Scene& scene = *data.scene;
+    for (const Sphere& sphere : scene.spheres) {
+        float t;
+        if (intersect_sphere(ray, sphere, t)) return true;
+    }
+    const WatertightRay4 watertight(WatertightRay{ray});
+    return traverse_wide<bvh::Query::any_hit, kMoving>(
+        data.bvh, ray,
+        [&](uint32_t first_block, uint32_t block_count, float& t_max) {
+            const uint32_t end = first_block + block_count;
+            for (uint32_t b = first_block; b < end; b += 2) {
+                TriangleBlock moved[2];
+                const TriangleBlock* pair[2];
+                const uint32_t count = blocks_at<kMoving>(data, b, end, ray.time, moved, pair, observer);
+                PairHits hits;
+                uint32_t lanes = intersect_block_pair(watertight, pair, count, t_max, hits);
+                if (lanes == 0) continue;
+                if (!kFiltered) return true;
+                for (; lanes != 0; lanes &= lanes - 1) {
+                    const uint32_t lane = uint32_t(__builtin_ctz(lanes));
+                    const TriangleBlock& block = *pair[lane >> 2];
+                    const uint32_t slot = lane & 3;
+                    if (!block.has_alpha(slot)) return true;
+                    // Each triangle sits in one leaf, so each is met once: the
+                    // product over them does not depend on the order.
+                    visibility *= 1.0f - triangle_coverage(scene, block.triangle(slot), hits.u(lane), hits.v(lane));
+                    if (!(visibility > 0.0f)) return true;
+                }
+            }
+            return false;
+        },
+        [&](bvh::ChildRef leaf) { prefetch_blocks<kMoving>(data, leaf); }, observer);
+}
+
+template <typename Observer>
+bool intersect_with(const AccelData& data, const Ray& ray, Hit& hit, Observer observer) {
+    if (data.moving)
+        return data.filtered ? closest_hit<true, true>(data, ray, hit, observer)
+                             : closest_hit<true, false>(data, ray, hit, observer);
+    return data.filtered ? closest_hit<false, true>(data, ray, hit, observer)
+                         : closest_hit<false, false>(data, ray, hit, observer);
+}
+
+template <typename Observer>
+float visibility_with(const AccelData& data, const Ray& ray, Observer observer) {
+    float visibility = 1.0f;
+    bool stopped;
+    if (data.moving)
+        stopped = data.filtered ? any_hit<true, true>(data, ray, visibility, observer)
+                                : any_hit<true, false>(data, ray, visibility, observer);
+    else
+        stopped = data.filtered ? any_hit<false, true>(data, ray, visibility, observer)
+                                : any_hit<false, false>(data, ray, visibility, observer);
+    return stopped ? 0.0f : visibility;
+}
+
+const AccelKernels kKernels = {
+    [](const AccelData& d, const Ray& r, Hit& h) { return intersect_with(d, r, h, SilentObserver{}); },
+    [](const AccelData& d, const Ray& r, Hit& h, TraversalStats& s) { return intersect_with(d, r, h, CountingObserver{s}); },
+    [](const AccelData& d, const Ray& r, Hit& h, TraversalRecord& rec) {
+        return intersect_with(d, r, h, RecordingObserver{rec});
+    },
+    [](const AccelData& d, const Ray& r) { return visibility_with(d, r, SilentObserver{}); },
+    [](const AccelData& d, const Ray& r, TraversalStats& s) { return visibility_with(d, r, CountingObserver{s}); },
+    [](const AccelData& d, const Ray& r, TraversalRecord& rec) { return visibility_with(d, r, RecordingObserver{rec}); },
+};

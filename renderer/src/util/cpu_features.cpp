@@ -1,0 +1,48 @@
+#include "util/cpu_features.h"
+
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+
+namespace rt {
+namespace {
+
+SimdPath choose_path() {
+    const char* forced = std::getenv("RT_SIMD");
+    if (forced == nullptr || *forced == '\0') return cpu_supports(SimdPath::avx2) ? SimdPath::avx2 : SimdPath::generic;
+    for (SimdPath path : {SimdPath::generic, SimdPath::avx2}) {
+        if (std::string(forced) != to_string(path)) continue;
+        if (!cpu_supports(path))
+            throw std::runtime_error(std::string("RT_SIMD=") + forced + ": this CPU does not support it");
+        return path;
+    }
+    throw std::runtime_error(std::string("RT_SIMD=") + forced + ": unknown SIMD path (use generic or avx2)");
+}
+
+}  // namespace
+
+bool cpu_supports(SimdPath path) {
+    switch (path) {
+        case SimdPath::generic: return true;
+        // GCC's checks include the OS's saving of the YMM registers (XGETBV).
+        case SimdPath::avx2:
+            return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("bmi") &&
+                   __builtin_cpu_supports("bmi2") && __builtin_cpu_supports("popcnt");
+    }
+    return false;
+}
+
+const char* to_string(SimdPath path) {
+    switch (path) {
+        case SimdPath::generic: return "generic";
+        case SimdPath::avx2: return "avx2";
+    }
+    return "unknown";
+}
+
+SimdPath simd_path() {
+    static const SimdPath path = choose_path();
+    return path;
+}
+
+}  // namespace rt

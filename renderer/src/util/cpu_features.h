@@ -1,0 +1,23 @@
+// Which SIMD kernels this CPU runs. The library is compiled for baseline
+// x86-64, so one binary runs on any of them (a cluster worker, a container
+// built elsewhere); the ray query kernels exist once per instruction set and
+// are picked at run time, as Embree picks its ISA.
+#pragma once
+
+namespace rt {
+
+enum class SimdPath {
+    generic,  // SSE2, which every x86-64 has
+    avx2,     // AVX2 with BMI1/2, FMA-free: Haswell (2013) and Zen on
+};
+
+// The widest path the CPU and OS support, unless RT_SIMD names a narrower
+// one ("generic" or "avx2"). An unknown name, or a path the CPU lacks, is an
+// error thrown on first use; decided once per process.
+SimdPath simd_path();
+const char* to_string(SimdPath path);
+inline const char* simd_path_name() { return to_string(simd_path()); }
+
+bool cpu_supports(SimdPath path);
+
+}  // namespace rt
