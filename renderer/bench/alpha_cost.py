@@ -12,17 +12,13 @@ time and their ratio. Part of `make bench`.
 from __future__ import annotations
 
 import argparse
-import re
-import statistics
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "samples"))
 from glb import with_json  # noqa: E402
-
-RENDER = re.compile(r"render (?P<ms>[\d.]+) ms, (?P<mrays>[\d.]+) Mrays/s")
+from in_turns import add_render_arguments, median_ratio, print_medians, time_in_turns  # noqa: E402
 
 
 def make_opaque(doc: dict) -> None:
@@ -32,42 +28,21 @@ def make_opaque(doc: dict) -> None:
         material.pop("alphaCutoff", None)
 
 
-def render_ms(rtrender: Path, scene: Path, out: Path, args: argparse.Namespace) -> float:
-    result = subprocess.run(
-        [str(rtrender), str(scene), "-o", str(out), "--quiet", "--width", str(args.width), "--height",
-         str(args.height), "--samples-per-pixel", str(args.spp), "--threads", str(args.threads)],
-        capture_output=True, text=True, check=True)
-    match = RENDER.search(result.stdout + result.stderr)
-    if not match:
-        raise RuntimeError(f"no render time in rtrender's output:\n{result.stderr}")
-    return float(match["ms"])
-
-
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--assets", type=Path, required=True, help="make_assets.py's folder")
-    parser.add_argument("--rtrender", type=Path, required=True)
-    parser.add_argument("--runs", type=int, default=7)
-    parser.add_argument("--width", type=int, default=640)
-    parser.add_argument("--height", type=int, default=480)
-    parser.add_argument("--spp", type=int, default=4)
-    parser.add_argument("--threads", type=int, default=1)
+    add_render_arguments(parser, threads=1)
     args = parser.parse_args()
 
     masked = args.assets / "product.glb"
     with tempfile.TemporaryDirectory() as folder:
         opaque = Path(folder) / "product_opaque.glb"
         opaque.write_bytes(with_json(masked.read_bytes(), make_opaque))
-        times: dict[str, list[float]] = {"masked": [], "opaque": []}
-        for _ in range(args.runs):
-            for name, scene in (("masked", masked), ("opaque", opaque)):
-                times[name].append(render_ms(args.rtrender, scene, Path(folder) / f"{name}.exr", args))
+        times = time_in_turns({"masked": masked, "opaque": opaque}, Path(folder), ".exr", args)
     print(f"alpha cost: product.glb, {args.width}x{args.height}, {args.spp} spp, {args.threads} thread(s), "
           f"{args.runs} runs in turns")
-    for name, values in times.items():
-        print(f"  {name:<7} median {statistics.median(values):8.1f} ms   range {min(values):.1f}-{max(values):.1f} ms")
-    ratio = statistics.median(times["masked"]) / statistics.median(times["opaque"])
-    print(f"  masked / opaque: {ratio:.3f}")
+    print_medians(times)
+    print(f"  masked / opaque: {median_ratio(times, 'masked', 'opaque'):.3f}")
     return 0
 
 

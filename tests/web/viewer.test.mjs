@@ -537,37 +537,47 @@ describe("rt viewer", { timeout: 170_000 }, () => {
       };
       requestAnimationFrame(step);
     }));
+    // The full-detail rate under the same load as the orbit just measured: the
+    // camera stops (full detail again), then the best of three timed frames.
+    const fullDetailMs = async () => {
+      await page.waitForTimeout(500);
+      return page.evaluate(() => Math.min(...[0, 1, 2].map(() => window.rt.viewer.lod.timeFrame())));
+    };
     const result = await orbit();
     let fps = result.frames / result.seconds;
+    let fullMs = await fullDetailMs();
     const lod = await page.evaluate(() => {
       const { lod, renderer } = window.rt.viewer;
       const gl = renderer.getContext();
       const info = gl.getExtension("WEBGL_debug_renderer_info");
-      return { fullFrameMs: lod.fullFrameMs, proxyTriangles: lod.proxyTriangles, resolution: lod.resolution,
+      return { proxyTriangles: lod.proxyTriangles, resolution: lod.resolution,
         gpu: info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : "?" };
     });
     console.log(`# ${lod.gpu}`);
     console.log(`# orbiting dragon_1 (${dragon.triangle_count} triangles) with ${counts.rays} ray lines and ${counts.boxes} boxes: ` +
       `${fps.toFixed(1)} fps (best of ${result.windows.map((f) => (f / 2).toFixed(1)).join(", ")})`);
-    console.log(`# one full-detail frame: ${lod.fullFrameMs.toFixed(0)} ms; while moving: ${lod.proxyTriangles || "all"} proxy triangles, ` +
+    console.log(`# one full-detail frame: ${fullMs.toFixed(0)} ms; while moving: ${lod.proxyTriangles || "all"} proxy triangles, ` +
       `${Math.round(lod.resolution * 100)}% resolution`);
-    await page.waitForTimeout(500); // the camera stops: full detail again
     await page.selectOption("#scene-camera", "default");
     await page.waitForTimeout(300);
     await screenshot(page, "dragon-overlays");
     // 30 fps on a GPU. On a software one (headless chromium's SwiftShader, on
     // this machine's 2 cores) an empty frame alone can take 30 ms under load,
-    // so there the test asks for 4x the full-detail rate (what the interactive
-    // detail gains), up to 30; RT_WEB_MIN_FPS overrides both.
+    // so there the test asks for 4x the full-detail rate measured beside the
+    // orbit (what the interactive detail gains), up to 30; RT_WEB_MIN_FPS
+    // overrides both.
     const software = /swiftshader|llvmpipe|software/i.test(lod.gpu);
-    const fullFps = 1000 / lod.fullFrameMs;
-    const floor = process.env.RT_WEB_MIN_FPS ? Number(process.env.RT_WEB_MIN_FPS) : software ? Math.min(30, 4 * fullFps) : 30;
-    console.log(`# ${software ? "software" : "hardware"} GPU: asking for ${floor.toFixed(1)} fps (full detail: ${fullFps.toFixed(1)} fps)`);
+    const floorFor = (ms) => (process.env.RT_WEB_MIN_FPS ? Number(process.env.RT_WEB_MIN_FPS)
+      : software ? Math.min(30, (4 * 1000) / ms) : 30);
+    let floor = floorFor(fullMs);
+    console.log(`# ${software ? "software" : "hardware"} GPU: asking for ${floor.toFixed(1)} fps (full detail: ${(1000 / fullMs).toFixed(1)} fps)`);
     if (fps < floor) {
       // A busy moment of the machine, or the truth: one more measurement decides.
       const again = await orbit();
-      console.log(`# again: best of ${again.windows.map((f) => (f / 2).toFixed(1)).join(", ")}`);
-      fps = Math.max(fps, again.frames / again.seconds);
+      const againFps = again.frames / again.seconds;
+      const againMs = await fullDetailMs();
+      console.log(`# again: best of ${again.windows.map((f) => (f / 2).toFixed(1)).join(", ")}; full detail ${againMs.toFixed(0)} ms`);
+      if (againFps / floorFor(againMs) > fps / floor) [fps, floor, fullMs] = [againFps, floorFor(againMs), againMs];
     }
     assert.ok(fps >= floor, `${fps.toFixed(1)} fps while orbiting, below ${floor.toFixed(1)}`);
   });

@@ -171,8 +171,8 @@ export class InteractiveLod {
     for (const overlay of this.overlays) this._thin(overlay, true);
   }
 
-  /** Times one synchronous full-detail frame. */
-  _timeFrame() {
+  /** Times one synchronous frame of what is shown now (after a warm-up frame). */
+  timeFrame() {
     const { renderer, scene, camera } = this.viewer;
     const gl = renderer.getContext();
     const pixel = new Uint8Array(4);
@@ -192,7 +192,7 @@ export class InteractiveLod {
       if (o.isMesh && triangleCount(o.geometry) >= MIN_PROXY_SOURCE) meshes.push(o);
     });
     if (!meshes.length) return;
-    this.fullFrameMs = this._timeFrame();
+    this.fullFrameMs = this.timeFrame();
     if (this.fullFrameMs <= FRAME_BUDGET_MS) return;
     // Far over budget: the first move starts at a lower resolution rather than finding it frame by frame.
     this.resolution = Math.max(MIN_RESOLUTION, Math.min(1, Math.sqrt((4 * FRAME_BUDGET_MS) / this.fullFrameMs)));

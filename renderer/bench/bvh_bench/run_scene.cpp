@@ -120,44 +120,45 @@ QueryResult occluded(const std::string& name, const std::vector<Ray>& rays, cons
 // Packets are handed out 64 at a time: 1024 rays, as the single-ray passes.
 constexpr size_t kPacketChunk = 64;
 
-QueryResult closest_packets(const std::string& name, const std::vector<Ray>& rays, const std::vector<Packet>& packets,
-                            const Peers& p) {
+// One packet query of both peers: traced once for the check, then timed.
+template <class Out, class OursTile, class EmbreeTile, class CheckBoth>
+QueryResult packet_query(const std::string& name, const std::vector<Packet>& packets, size_t rays, const Peers& p,
+                         OursTile ours_tile, EmbreeTile embree_tile, CheckBoth check_both) {
     QueryResult q;
     q.query = name;
-    std::vector<Hit> ours(rays.size()), embree(rays.size());
-    auto trace = [&](unsigned n, std::vector<Hit>& out, auto&& tile) {
+    std::vector<Out> ours(rays), embree(rays);
+    auto trace = [&](unsigned n, std::vector<Out>& out, auto&& tile) {
         parallel_for(packets.size(), n, [&](size_t b) { tile(packets[b], out.data()); }, kPacketChunk);
     };
-    auto ours_tile = [&](const Packet& packet, Hit* hits) { trace_tile_ours(p.accel, rays.data(), packet, hits); };
-    auto embree_tile = [&](const Packet& packet, Hit* hits) { p.embree.intersect16(rays.data(), packet, hits); };
     trace(p.options.threads, ours, ours_tile);
     trace(p.options.threads, embree, embree_tile);
-    q.check = check_closest(p.scene, rays, ours, embree, p.options.threads);
+    q.check = check_both(ours, embree);
     time_both(
-        q, rays.size(), p.options, [&](unsigned n) { trace(n, ours, ours_tile); },
+        q, rays, p.options, [&](unsigned n) { trace(n, ours, ours_tile); },
         [&](unsigned n) { trace(n, embree, embree_tile); });
     return q;
 }
 
+QueryResult closest_packets(const std::string& name, const std::vector<Ray>& rays, const std::vector<Packet>& packets,
+                            const Peers& p) {
+    return packet_query<Hit>(
+        name, packets, rays.size(), p,
+        [&](const Packet& packet, Hit* hits) { trace_tile_ours(p.accel, rays.data(), packet, hits); },
+        [&](const Packet& packet, Hit* hits) { p.embree.intersect16(rays.data(), packet, hits); },
+        [&](const std::vector<Hit>& ours, const std::vector<Hit>& embree) {
+            return check_closest(p.scene, rays, ours, embree, p.options.threads);
+        });
+}
+
 QueryResult occluded_packets(const std::string& name, const std::vector<Ray>& rays,
                              const std::vector<Packet>& packets, const Peers& p) {
-    QueryResult q;
-    q.query = name;
-    std::vector<char> ours(rays.size()), embree(rays.size());
-    auto trace = [&](unsigned n, std::vector<char>& out, auto&& tile) {
-        parallel_for(packets.size(), n, [&](size_t b) { tile(packets[b], out.data()); }, kPacketChunk);
-    };
-    auto ours_tile = [&](const Packet& packet, char* blocked) {
-        occluded_tile_ours(p.accel, rays.data(), packet, blocked);
-    };
-    auto embree_tile = [&](const Packet& packet, char* blocked) { p.embree.occluded16(rays.data(), packet, blocked); };
-    trace(p.options.threads, ours, ours_tile);
-    trace(p.options.threads, embree, embree_tile);
-    q.check = check_occluded(p.scene, rays, ours, embree, p.options.threads);
-    time_both(
-        q, rays.size(), p.options, [&](unsigned n) { trace(n, ours, ours_tile); },
-        [&](unsigned n) { trace(n, embree, embree_tile); });
-    return q;
+    return packet_query<char>(
+        name, packets, rays.size(), p,
+        [&](const Packet& packet, char* blocked) { occluded_tile_ours(p.accel, rays.data(), packet, blocked); },
+        [&](const Packet& packet, char* blocked) { p.embree.occluded16(rays.data(), packet, blocked); },
+        [&](const std::vector<char>& ours, const std::vector<char>& embree) {
+            return check_occluded(p.scene, rays, ours, embree, p.options.threads);
+        });
 }
 
 // An Embree scene on a verbose device, with what Embree printed building it.
