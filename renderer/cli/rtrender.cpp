@@ -138,9 +138,12 @@ int run(const Options& options) {
     const double write_ms = milliseconds_since(write_start);
 
     const auto& stats = accel.stats();
-    std::printf("rtrender: %zu triangles, %zu spheres, BVH %zu nodes depth %u (%s kernels), build %.1f ms, "
+    const std::string placed = stats.instances == 0 ? std::string()
+                               : " (" + std::to_string(scene.placed_triangles()) + " placed by " +
+                                     std::to_string(stats.instances) + " instances)";
+    std::printf("rtrender: %zu triangles%s, %zu spheres, BVH %zu nodes depth %u (%s kernels), build %.1f ms, "
                 "render %.1f ms, %.2f Mrays/s (%llu rays), %.1f samples/pixel -> %s\n",
-                stats.triangles, scene.spheres.size(), stats.nodes, stats.depth, rt::to_string(accel.simd()),
+                stats.triangles, placed.c_str(), scene.spheres.size(), stats.nodes, stats.depth, rt::to_string(accel.simd()),
                 stats.build_ms, render_ms,
                 double(counts.rays.total()) / (render_ms * 1e3),
                 static_cast<unsigned long long>(counts.rays.total()),

@@ -79,7 +79,7 @@ nb::bytes PyScene::info() const {
         for (float f : {v.x, v.y, v.z}) field->Add(f);
     };
     rt::SceneInfo info;
-    info.set_triangle_count(uint32_t(scene_->triangles.size()));
+    info.set_triangle_count(uint32_t(std::min<size_t>(scene_->placed_triangles(), UINT32_MAX)));
     info.set_sphere_count(uint32_t(scene_->spheres.size()));
     info.set_degenerate_triangles(uint32_t(scene_->degenerate_triangles));
     const rt::Bounds3 bounds = scene_->bounds();
@@ -123,7 +123,8 @@ nb::bytes PyScene::default_camera() const { return to_bytes(rt::default_camera(*
 nb::dict PyScene::bvh_stats() const {
     const rt::AccelStats& s = accel_->stats();
     nb::dict d;
-    d["triangles"] = s.triangles;
+    d["triangles"] = s.triangles;  // stored: a shared mesh once
+    d["instances"] = s.instances;
     d["nodes"] = s.nodes;
     d["leaves"] = s.leaves;
     d["depth"] = s.depth;

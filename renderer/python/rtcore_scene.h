@@ -31,7 +31,8 @@ class PyScene {
     // Serialized rt.SceneInfo with what the scene itself tells: counts, bounds,
     // lights, cameras, warnings.
     nb::bytes info() const;
-    size_t triangle_count() const { return scene_->triangles.size(); }
+    // That rays meet: each instance of a shared mesh counts (bvh_stats() has those stored).
+    size_t triangle_count() const { return scene_->placed_triangles(); }
     size_t texture_bytes() const;
     nb::bytes default_camera() const;
     nb::dict bvh_stats() const;

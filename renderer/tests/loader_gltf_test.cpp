@@ -58,7 +58,9 @@ TEST(LoaderGltf, WithoutScenesEveryRootNodeIsShown) {
     doc.json["nodes"].push_back({{"mesh", 0}, {"translation", {0, 0, 3}}});
     doc.json.erase("scene");
     doc.json.erase("scenes");
-    EXPECT_EQ(load_text(doc.text(), "t.gltf").triangles.size(), 2u);
+    const Scene scene = load_text(doc.text(), "t.gltf");
+    EXPECT_EQ(scene.placed_triangles(), 2u);
+    EXPECT_EQ(scene.instances.size(), 2u) << "both nodes draw mesh 0: one copy, two instances";
 }
 
 TEST(LoaderGltf, IndexedAndNonIndexedGiveTheSameTriangle) {

@@ -199,16 +199,21 @@ export class InteractiveLod {
     const total = meshes.reduce((n, m) => n + triangleCount(m.geometry), 0);
     const perMs = total / this.fullFrameMs;
     const budget = Math.max(2_000, perMs * FRAME_BUDGET_MS * PROXY_SHARE);
+    // Meshes drawn by several nodes share one geometry, and so one proxy.
+    const proxies = new Map();
     for (const mesh of meshes) {
       const share = (budget * triangleCount(mesh.geometry)) / total;
-      mesh.geometry.computeBoundingBox();
-      const box = mesh.geometry.boundingBox;
-      let proxy = null;
-      // A surface over an n³ grid keeps about 2n² triangles: start a little above that.
-      for (let n = Math.ceil(Math.sqrt(share) * 1.2); n >= 4; n = Math.floor(n / 1.25)) {
-        proxy?.dispose();
-        proxy = clusterGeometry(mesh.geometry, box, n);
-        if (triangleCount(proxy) <= share) break;
+      let proxy = proxies.get(mesh.geometry) ?? null;
+      if (!proxy) {
+        mesh.geometry.computeBoundingBox();
+        const box = mesh.geometry.boundingBox;
+        // A surface over an n³ grid keeps about 2n² triangles: start a little above that.
+        for (let n = Math.ceil(Math.sqrt(share) * 1.2); n >= 4; n = Math.floor(n / 1.25)) {
+          proxy?.dispose();
+          proxy = clusterGeometry(mesh.geometry, box, n);
+          if (triangleCount(proxy) <= share) break;
+        }
+        proxies.set(mesh.geometry, proxy);
       }
       const stand = new THREE.Mesh(proxy, mesh.material);
       stand.name = `${mesh.name || "mesh"} (proxy while moving)`;

@@ -83,11 +83,12 @@ class GlbExporter {
     std::string run();
 
   private:
-    std::vector<std::vector<uint32_t>> triangles_by_material() const;
+    std::vector<std::vector<uint32_t>> triangles_by_material(size_t first, size_t count) const;
+    int add_triangle_mesh(const std::string& name, size_t first, size_t count);
     Json primitive(size_t material, const std::vector<uint32_t>& vertices, const std::vector<uint32_t>& indices);
     void add_tangents(const std::vector<uint32_t>& vertices, Json& attributes);
 
-    void add_mesh();
+    void add_meshes();
     void add_spheres();
     void add_lights();
     void add_cameras();
@@ -96,10 +97,10 @@ class GlbExporter {
     GlbWriter writer_;
 };
 
-// The triangles of each material, in the scene's order: one primitive each.
-std::vector<std::vector<uint32_t>> GlbExporter::triangles_by_material() const {
+// The triangles [first, first + count) of each material, in the scene's order: one primitive each.
+std::vector<std::vector<uint32_t>> GlbExporter::triangles_by_material(size_t first, size_t count) const {
     std::vector<std::vector<uint32_t>> by_material(scene_.materials.size());
-    for (size_t t = 0; t < scene_.triangles.size(); ++t) {
+    for (size_t t = first; t < first + count; ++t) {
         const uint32_t material = scene_.triangle_materials[t];
         if (material >= by_material.size())
             throw std::invalid_argument("export_glb(): triangle " + std::to_string(t) + " has material " +
@@ -136,8 +137,9 @@ Json GlbExporter::primitive(size_t material, const std::vector<uint32_t>& vertic
             {"mode", kGltfTriangles}};
 }
 
-void GlbExporter::add_mesh() {
-    const std::vector<std::vector<uint32_t>> by_material = triangles_by_material();
+// A glTF mesh of triangles [first, first + count); -1 when there are none.
+int GlbExporter::add_triangle_mesh(const std::string& name, size_t first, size_t count) {
+    const std::vector<std::vector<uint32_t>> by_material = triangles_by_material(first, count);
     // Each primitive holds only the vertices its triangles use, renumbered.
     constexpr uint32_t kUnused = UINT32_MAX;
     std::vector<uint32_t> local(scene_.positions.size(), kUnused);
@@ -158,9 +160,29 @@ void GlbExporter::add_mesh() {
         for (uint32_t v : vertices) local[v] = kUnused;  // free for the next material's numbering
         primitives.push_back(primitive(material, vertices, indices));
     }
-    if (primitives.empty()) return;
-    const int mesh = writer_.append("meshes", {{"name", "triangles"}, {"primitives", std::move(primitives)}});
-    writer_.add_node({{"name", "triangles"}, {"mesh", mesh}});
+    if (primitives.empty()) return -1;
+    return writer_.append("meshes", {{"name", name}, {"primitives", std::move(primitives)}});
+}
+
+// The world-space triangles as one mesh; each shared mesh once, and a node
+// per instance with its transform, so the viewer gets the sharing too.
+void GlbExporter::add_meshes() {
+    const int world = add_triangle_mesh("triangles", 0, scene_.world_triangles());
+    if (world >= 0) writer_.add_node({{"name", "triangles"}, {"mesh", world}});
+    std::vector<int> meshes;
+    for (size_t m = 0; m < scene_.meshes.size(); ++m)
+        meshes.push_back(add_triangle_mesh("shared mesh " + std::to_string(m), scene_.meshes[m].first_triangle,
+                                           scene_.meshes[m].triangle_count));
+    for (size_t i = 0; i < scene_.instances.size(); ++i) {
+        const Instance& instance = scene_.instances[i];
+        if (meshes[instance.mesh] < 0) continue;
+        const glm::mat3& m = instance.to_world.linear;
+        const vec3& t = instance.to_world.translation;
+        Json matrix = Json::array();  // column-major, as glTF wants it
+        for (int c = 0; c < 3; ++c) matrix.insert(matrix.end(), {m[c][0], m[c][1], m[c][2], 0.0f});
+        matrix.insert(matrix.end(), {t.x, t.y, t.z, 1.0f});
+        writer_.add_node({{"name", "instance " + std::to_string(i)}, {"mesh", meshes[instance.mesh]}, {"matrix", matrix}});
+    }
 }
 
 // The tangents a normal-mapped primitive's vertices have (the file's or
@@ -282,7 +304,7 @@ void GlbExporter::add_cameras() {
 
 std::string GlbExporter::run() {
     add_materials(scene_, writer_);
-    add_mesh();
+    add_meshes();
     add_spheres();
     add_lights();
     add_cameras();

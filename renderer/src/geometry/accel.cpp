@@ -27,28 +27,23 @@ const AccelKernels& kernels_for(SimdPath path) {
     return path == SimdPath::avx2 ? avx2::kKernels : generic::kKernels;
 }
 
-}  // namespace
-
-Accelerator::Accelerator(const Scene& scene, unsigned threads) : Accelerator(scene, threads, simd_path()) {}
-
-Accelerator::Accelerator(const Scene& scene, unsigned threads, SimdPath path)
-    : path_(path), kernels_(&kernels_for(path)) {
-    const auto start = std::chrono::steady_clock::now();
-    data_.scene = &scene;
-    const size_t count = scene.triangles.size();
-    // Triangle numbers leave the top bit for the block's alpha flag.
-    if (count >= TriangleBlock::kAlphaBit) throw std::length_error("scene: too many triangles for the BVH");
+// One tree over scene.triangles[first, first + count), in whatever space
+// they are in; adds its sizes to `stats`.
+AccelData build_tree(const Scene& scene, size_t first, size_t count, unsigned threads, AccelStats& stats) {
+    AccelData data;
+    data.scene = &scene;
     // A moving scene's tree is built over the boxes that hold each triangle
     // all the shutter long, then given its boxes at open and close.
     std::vector<Bounds3> triangle_bounds(count), open_bounds, close_bounds;
     std::vector<vec3> centroids(count);
     if (scene.moving()) open_bounds.resize(count), close_bounds.resize(count);
     for (size_t i = 0; i < count; ++i) {
+        const uvec3 tri = scene.triangles[first + i];
         Bounds3 b;
-        for (int k = 0; k < 3; ++k) b.extend(scene.positions[scene.triangles[i][k]]);
+        for (int k = 0; k < 3; ++k) b.extend(scene.positions[tri[k]]);
         if (scene.moving()) {
             open_bounds[i] = b;
-            for (int k = 0; k < 3; ++k) close_bounds[i].extend(scene.positions_close[scene.triangles[i][k]]);
+            for (int k = 0; k < 3; ++k) close_bounds[i].extend(scene.positions_close[tri[k]]);
             b.extend(close_bounds[i]);
         }
         triangle_bounds[i] = b;
@@ -58,44 +53,131 @@ Accelerator::Accelerator(const Scene& scene, unsigned threads, SimdPath path)
     options.traversal_cost = kTraversalCost;
     options.threads = threads;
     options.leaf_block_size = bvh::kBlockWidth;
-    data_.bvh = bvh::collapse_to_wide(bvh::build_binned_sah(triangle_bounds, centroids, options), triangle_bounds, kLeafMergeLimit);
-
-    if (scene.moving()) bvh::refit_motion(data_.bvh, open_bounds, close_bounds);
+    data.bvh = bvh::collapse_to_wide(bvh::build_binned_sah(triangle_bounds, centroids, options), triangle_bounds, kLeafMergeLimit);
+    if (scene.moving()) bvh::refit_motion(data.bvh, open_bounds, close_bounds);
+    // The blocks hold scene triangle numbers.
+    for (uint32_t& id : data.bvh.prim_ids)
+        if (id != bvh::kNoPrim) id += uint32_t(first);
 
     std::vector<uint8_t> alpha;
-    for (const Material& m : scene.materials) data_.filtered = data_.filtered || m.alpha_mode != AlphaMode::Opaque;
-    if (data_.filtered) {
-        alpha.resize(count);
-        for (size_t i = 0; i < count; ++i)
+    for (size_t i = first; i < first + count && !data.filtered; ++i)
+        data.filtered = scene.materials[scene.triangle_materials[i]].alpha_mode != AlphaMode::Opaque;
+    if (data.filtered) {
+        alpha.resize(scene.triangles.size());
+        for (size_t i = first; i < first + count; ++i)
             alpha[i] = scene.materials[scene.triangle_materials[i]].alpha_mode != AlphaMode::Opaque;
     }
-    data_.moving = scene.moving();
-    data_.blocks = make_triangle_blocks(data_.bvh.prim_ids, scene.positions, scene.triangles, alpha);
-    if (data_.moving)
-        data_.blocks_motion = make_motion_blocks(data_.blocks, data_.bvh.prim_ids, scene.positions_close, scene.triangles);
-    // The blocks hold the triangle numbers now.
-    data_.bvh.prim_ids = {};
+    data.moving = scene.moving();
+    data.blocks = make_triangle_blocks(data.bvh.prim_ids, scene.positions, scene.triangles, alpha);
+    if (data.moving)
+        data.blocks_motion = make_motion_blocks(data.blocks, data.bvh.prim_ids, scene.positions_close, scene.triangles);
+    data.bvh.prim_ids = {};
 
-    stats_.triangles = count;
-    stats_.nodes = data_.bvh.nodes.size();
-    stats_.leaves = data_.bvh.leaf_count();
-    stats_.leaf_blocks = data_.blocks.size();
-    stats_.depth = data_.bvh.depth;
-    stats_.node_bytes = data_.bvh.node_bytes();
-    stats_.leaf_bytes = (data_.blocks.size() + data_.blocks_motion.size()) * sizeof(TriangleBlock);
+    stats.nodes += data.bvh.nodes.size();
+    stats.leaves += data.bvh.leaf_count();
+    stats.leaf_blocks += data.blocks.size();
+    stats.node_bytes += data.bvh.node_bytes();
+    stats.leaf_bytes += (data.blocks.size() + data.blocks_motion.size()) * sizeof(TriangleBlock);
+    return data;
+}
+
+// A tree's root box over the whole shutter interval.
+Bounds3 root_bounds(const bvh::WideBvh& tree) {
+    Bounds3 b;
+    if (tree.empty()) return b;
+    for (uint32_t i = 0; i < bvh::kWideWidth; ++i)
+        if (!tree.nodes[0].child[i].empty()) b.extend(tree.child_bounds(0, i));
+    return b;
+}
+
+// The top-level tree over the instances' world boxes and the world tree's:
+// one entry per leaf, since entering one costs a whole traversal.
+bvh::WideBvh build_top(const AccelScene& accel, unsigned threads) {
+    const Scene& scene = *accel.scene;
+    std::vector<uint32_t> entries;
+    std::vector<Bounds3> boxes;
+    std::vector<Bounds3> local(accel.meshes.size());
+    for (size_t m = 0; m < accel.meshes.size(); ++m) local[m] = root_bounds(accel.meshes[m].bvh);
+    if (!accel.world.bvh.empty()) {
+        entries.push_back(AccelScene::kWorldEntry);
+        boxes.push_back(root_bounds(accel.world.bvh));
+    }
+    for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+        const Bounds3& b = local[scene.instances[i].mesh];
+        if (b.empty()) continue;
+        entries.push_back(i);
+        boxes.push_back(scene.instances[i].to_world.box(b));
+    }
+    std::vector<vec3> centroids(boxes.size());
+    for (size_t i = 0; i < boxes.size(); ++i) centroids[i] = boxes[i].center();
+    bvh::BuildOptions options;
+    options.max_leaf_size = 1;
+    options.threads = threads;
+    bvh::WideBvh top = bvh::collapse_to_wide(bvh::build_binned_sah(boxes, centroids, options), boxes, 1);
+    for (uint32_t& id : top.prim_ids)
+        if (id != bvh::kNoPrim) id = entries[id];
+    return top;
+}
+
+}  // namespace
+
+Accelerator::Accelerator(const Scene& scene, unsigned threads) : Accelerator(scene, threads, simd_path()) {}
+
+Accelerator::Accelerator(const Scene& scene, unsigned threads, SimdPath path)
+    : path_(path), kernels_(&kernels_for(path)) {
+    const auto start = std::chrono::steady_clock::now();
+    data_.scene = &scene;
+    // Triangle numbers leave the top bit for the block's alpha flag.
+    if (scene.triangles.size() >= TriangleBlock::kAlphaBit) throw std::length_error("scene: too many triangles for the BVH");
+    size_t next = scene.world_triangles();
+    for (const SharedMesh& mesh : scene.meshes) {
+        if (mesh.first_triangle != next || size_t(mesh.first_triangle) + mesh.triangle_count > scene.triangles.size())
+            throw std::invalid_argument("scene: shared meshes must cover the tail of the triangles, in order");
+        next += mesh.triangle_count;
+    }
+    if (next != scene.triangles.size()) throw std::invalid_argument("scene: triangles after the last shared mesh");
+    for (const Instance& instance : scene.instances)
+        if (instance.mesh >= scene.meshes.size()) throw std::invalid_argument("scene: an instance of a mesh that does not exist");
+
+    data_.world = build_tree(scene, 0, scene.world_triangles(), threads, stats_);
+    for (const SharedMesh& mesh : scene.meshes)
+        data_.meshes.push_back(build_tree(scene, mesh.first_triangle, mesh.triangle_count, threads, stats_));
+    if (!scene.instances.empty()) {
+        data_.top = build_top(data_, threads);
+        stats_.nodes += data_.top.nodes.size();
+        stats_.node_bytes += data_.top.node_bytes() + data_.top.prim_ids.size() * sizeof(uint32_t);
+    }
+    const bvh::WideBvh& walked = data_.instanced() ? data_.top : data_.world.bvh;
+    stats_.triangles = scene.triangles.size();
+    stats_.instances = scene.instances.size();
+    stats_.depth = walked.depth;
     stats_.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    stats_.sah_cost = data_.bvh.sah_cost(kWideNodeCost, kBlockCost);
+    stats_.sah_cost = walked.sah_cost(kWideNodeCost, kBlockCost);
 }
 
 Accelerator::LevelBoxes Accelerator::boxes(int level) const {
+    const Scene& scene = *data_.scene;
+    const auto tree_triangles = [&](uint32_t entry) -> uint32_t {
+        if (entry == AccelScene::kWorldEntry) return uint32_t(scene.world_triangles());
+        return scene.meshes[scene.instances[entry].mesh].triangle_count;
+    };
+    // A world tree's leaf: the triangles in its blocks; a top-level leaf: those its entries place.
     const auto leaf_triangles = [&](bvh::ChildRef leaf) {
         uint32_t triangles = 0;
         for (uint32_t b = leaf.first_block(); b < leaf.first_block() + leaf.block_count(); ++b)
-            for (uint32_t lane = 0; lane < bvh::kBlockWidth; ++lane) triangles += data_.blocks[b].lane_used(lane);
+            for (uint32_t lane = 0; lane < bvh::kBlockWidth; ++lane) {
+                if (!data_.instanced()) {
+                    triangles += data_.world.blocks[b].lane_used(lane);
+                } else {
+                    const uint32_t entry = data_.top.prim_ids[size_t(b) * bvh::kBlockWidth + lane];
+                    if (entry != bvh::kNoPrim) triangles += tree_triangles(entry);
+                }
+            }
         return triangles;
     };
     LevelBoxes boxes;
-    for (const bvh::WideBvh::Box& box : data_.bvh.boxes(leaf_triangles)) {
+    const bvh::WideBvh& walked = data_.instanced() ? data_.top : data_.world.bvh;
+    for (const bvh::WideBvh::Box& box : walked.boxes(leaf_triangles)) {
         const bool wanted = level < 0 ? box.leaf : box.level == uint32_t(level);
         if (!wanted) continue;
         boxes.nodes.push_back(box.id);

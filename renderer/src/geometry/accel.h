@@ -2,6 +2,11 @@
 // the triangles in SIMD-ready leaf blocks, plus its analytic spheres. This is
 // the only interface the integrator, the debugger and rtcore use.
 //
+// A scene with instances (geometry/instance.h) gets one tree per shared mesh,
+// in the mesh's space, and a top-level tree over the instances' world boxes
+// (Embree's two-level instancing): a ray entering an instance's box is taken
+// into the mesh's space and meets its tree there. Hits say which instance.
+//
 // The tree is built as a binary SAH tree (bvh/binned_sah_builder.h) and
 // collapsed (bvh/wide_collapse.h). The queries run the kernels of the widest
 // SIMD path the CPU has (util/cpu_features.h); every path returns the same hits.
@@ -25,15 +30,18 @@
 
 namespace rt {
 
+// Summed over every tree: the world tree, each shared mesh's and the top-level one.
 struct AccelStats {
-    size_t triangles = 0;
+    size_t triangles = 0;   // stored, each shared mesh's once
+    size_t instances = 0;
     size_t nodes = 0;       // wide nodes
     size_t leaves = 0;
     size_t leaf_blocks = 0;  // blocks of four triangle slots
+    // Of the tree boxes() walks: the top-level one when there are instances, else the world tree.
     uint32_t depth = 0;     // levels below the root, leaves included
     double build_ms = 0.0;
     double sah_cost = 0.0;  // bvh::WideBvh::sah_cost with the costs below
-    size_t node_bytes = 0;  // the wide nodes
+    size_t node_bytes = 0;  // the wide nodes (and the top-level tree's entries)
     size_t leaf_bytes = 0;  // the triangle blocks (both of them in a moving scene)
 };
 
@@ -70,14 +78,15 @@ class Accelerator {
     bool occluded(const Ray& ray, TraversalStats& stats) const { return visibility(ray, stats) == 0.0f; }
     bool occluded(const Ray& ray, TraversalRecord& record) const { return visibility(ray, record) == 0.0f; }
 
-    const bvh::WideBvh& wide_bvh() const { return data_.bvh; }
-    const std::vector<TriangleBlock>& blocks() const { return data_.blocks; }
+    // The world-space triangles' tree.
+    const bvh::WideBvh& wide_bvh() const { return data_.world.bvh; }
     const AccelStats& stats() const { return stats_; }
     const Scene& scene() const { return *data_.scene; }
     SimdPath simd() const { return path_; }
 
     // Boxes of the tree at one level (0 = root), or of all leaves (level < 0),
-    // numbered as TraversalRecord::visited_nodes numbers them.
+    // numbered as TraversalRecord::visited_nodes numbers them: the top-level
+    // tree's when there are instances, whose leaves count the triangles they place.
     struct LevelBoxes {
         std::vector<uint32_t> nodes;
         std::vector<Bounds3> bounds;
@@ -87,7 +96,7 @@ class Accelerator {
     LevelBoxes boxes(int level) const;
 
   private:
-    AccelData data_;
+    AccelScene data_;
     SimdPath path_;
     const AccelKernels* kernels_;
     AccelStats stats_;

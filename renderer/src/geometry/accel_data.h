@@ -1,6 +1,7 @@
-// What the ray query kernels read: the wide BVH and its triangle blocks, and
-// the observers the debugger passes. Kept apart from Accelerator so that the
-// kernels, compiled once per SIMD path (accel_kernels.inl), see plain data.
+// What the ray query kernels read: the wide BVHs and their triangle blocks, the
+// tree over the instances when the scene has any, and the observers the
+// debugger passes. Kept apart from Accelerator so that the kernels, compiled
+// once per SIMD path (accel_kernels.inl), see plain data.
 #pragma once
 
 #include <vector>
@@ -13,6 +14,8 @@
 
 namespace rt {
 
+// One tree over triangles: the scene's world-space ones, or one shared mesh's
+// in its own space. Its blocks hold Scene::triangles numbers.
 struct AccelData {
     const Scene* scene = nullptr;
     bvh::WideBvh bvh;  // its prim_ids are dropped once copied into `blocks`
@@ -22,6 +25,24 @@ struct AccelData {
     std::vector<TriangleBlock> blocks_motion;
     bool moving = false;
     bool filtered = false;  // some triangle's material has alpha (MASK or BLEND)
+};
+
+// The scene's queries: spheres, then its triangle trees. With instances, a
+// top-level tree over the instances' world boxes (and the world-space
+// triangles' tree as one more entry) leads to the trees they place; without,
+// the world tree alone, as fast as a scene with no instancing at all.
+struct AccelScene {
+    const Scene* scene = nullptr;
+    AccelData world;
+    std::vector<AccelData> meshes;  // one per Scene::meshes entry
+    // Its leaves' prim_ids are entries: an instance number, or kWorldEntry.
+    bvh::WideBvh top;
+    static constexpr uint32_t kWorldEntry = kNoInstance - 1;
+
+    bool instanced() const { return !top.empty(); }
+    const AccelData& tree_of(uint32_t entry) const {
+        return entry == kWorldEntry ? world : meshes[scene->instances[entry].mesh];
+    }
 };
 
 struct SilentObserver {
@@ -47,15 +68,21 @@ struct RecordingObserver {
     void test_triangles(uint32_t count) { record.triangles_tested += count; }
 };
 
+// Inside an instance: the nodes and triangles count, but the box numbers,
+// which are the top-level tree's, are not the instance tree's.
+inline SilentObserver nested(SilentObserver o) { return o; }
+inline CountingObserver nested(CountingObserver o) { return o; }
+inline CountingObserver nested(RecordingObserver o) { return {o.record}; }
+
 // The query kernels of one SIMD path (accel_kernels.inl). intersect() finds
 // the closest hit; visibility() the light passing along the ray.
 struct AccelKernels {
-    bool (*intersect)(const AccelData&, const Ray&, Hit&);
-    bool (*intersect_counted)(const AccelData&, const Ray&, Hit&, TraversalStats&);
-    bool (*intersect_recorded)(const AccelData&, const Ray&, Hit&, TraversalRecord&);
-    float (*visibility)(const AccelData&, const Ray&);
-    float (*visibility_counted)(const AccelData&, const Ray&, TraversalStats&);
-    float (*visibility_recorded)(const AccelData&, const Ray&, TraversalRecord&);
+    bool (*intersect)(const AccelScene&, const Ray&, Hit&);
+    bool (*intersect_counted)(const AccelScene&, const Ray&, Hit&, TraversalStats&);
+    bool (*intersect_recorded)(const AccelScene&, const Ray&, Hit&, TraversalRecord&);
+    float (*visibility)(const AccelScene&, const Ray&);
+    float (*visibility_counted)(const AccelScene&, const Ray&, TraversalStats&);
+    float (*visibility_recorded)(const AccelScene&, const Ray&, TraversalRecord&);
 };
 
 namespace generic { extern const AccelKernels kKernels; }

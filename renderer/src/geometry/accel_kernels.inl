@@ -57,25 +57,16 @@ template <typename Observer>
     }
 }
 
+// The nearest triangle of one tree with t < ray.t_max, into `hit` when found.
 // flatten: the traversal, the leaf test and the triangle test become one
 // function, so the per-ray constants stay in registers.
 template <bool kMoving, bool kFiltered, typename Observer>
-[[gnu::flatten]] bool closest_hit(const AccelData& data, const Ray& ray, Hit& hit, Observer observer) {
+[[gnu::flatten]] bool closest_triangle(const AccelData& data, const Ray& ray, Hit& hit, Observer observer) {
     const Scene& scene = *data.scene;
-    hit = Hit{};
-    // Spheres first: their hit shortens the ray the BVH has to follow.
-    Ray clipped = ray;
-    for (size_t s = 0; s < scene.spheres.size(); ++s) {
-        float t;
-        if (intersect_sphere(clipped, scene.spheres[s], t)) {
-            clipped.t_max = t;
-            hit = {t, uint32_t(scene.triangles.size() + s), 0.0f, 0.0f};
-        }
-    }
     const WatertightRay4 watertight(WatertightRay{ray});
     Hit nearest;
     const bool found = traverse_wide<bvh::Query::closest_hit, kMoving>(
-        data.bvh, clipped,
+        data.bvh, ray,
         [&](uint32_t first_block, uint32_t block_count, float& t_max) {
             bool found_here = false;
             const uint32_t end = first_block + block_count;
@@ -105,18 +96,14 @@ template <bool kMoving, bool kFiltered, typename Observer>
         },
         [&](bvh::ChildRef leaf) { prefetch_blocks<kMoving>(data, leaf); }, observer);
     if (found) hit = nearest;
-    return hit.found();
+    return found;
 }
 
-// Returns whether an opaque hit stopped the ray; scales `visibility` by the
-// BLEND surfaces it passed.
+// Returns whether an opaque triangle of one tree stopped the ray; scales
+// `visibility` by the BLEND surfaces it passed.
 template <bool kMoving, bool kFiltered, typename Observer>
-[[gnu::flatten]] bool any_hit(const AccelData& data, const Ray& ray, float& visibility, Observer observer) {
+[[gnu::flatten]] bool any_triangle(const AccelData& data, const Ray& ray, float& visibility, Observer observer) {
     const Scene& scene = *data.scene;
-    for (const Sphere& sphere : scene.spheres) {
-        float t;
-        if (intersect_sphere(ray, sphere, t)) return true;
-    }
     const WatertightRay4 watertight(WatertightRay{ray});
     return traverse_wide<bvh::Query::any_hit, kMoving>(
         data.bvh, ray,
@@ -146,35 +133,117 @@ template <bool kMoving, bool kFiltered, typename Observer>
         [&](bvh::ChildRef leaf) { prefetch_blocks<kMoving>(data, leaf); }, observer);
 }
 
+// One tree, with the kernels its flags call for.
 template <typename Observer>
-bool intersect_with(const AccelData& data, const Ray& ray, Hit& hit, Observer observer) {
+bool closest_in(const AccelData& data, const Ray& ray, Hit& hit, Observer observer) {
     if (data.moving)
-        return data.filtered ? closest_hit<true, true>(data, ray, hit, observer)
-                             : closest_hit<true, false>(data, ray, hit, observer);
-    return data.filtered ? closest_hit<false, true>(data, ray, hit, observer)
-                         : closest_hit<false, false>(data, ray, hit, observer);
+        return data.filtered ? closest_triangle<true, true>(data, ray, hit, observer)
+                             : closest_triangle<true, false>(data, ray, hit, observer);
+    return data.filtered ? closest_triangle<false, true>(data, ray, hit, observer)
+                         : closest_triangle<false, false>(data, ray, hit, observer);
 }
 
 template <typename Observer>
-float visibility_with(const AccelData& data, const Ray& ray, Observer observer) {
+bool any_in(const AccelData& data, const Ray& ray, float& visibility, Observer observer) {
+    if (data.moving)
+        return data.filtered ? any_triangle<true, true>(data, ray, visibility, observer)
+                             : any_triangle<true, false>(data, ray, visibility, observer);
+    return data.filtered ? any_triangle<false, true>(data, ray, visibility, observer)
+                         : any_triangle<false, false>(data, ray, visibility, observer);
+}
+
+// The ray in an entry's space: the world tree's is the world's.
+[[gnu::always_inline]] inline LocalRay entry_ray(const AccelScene& accel, uint32_t entry, const Ray& ray, float t_max) {
+    if (entry != AccelScene::kWorldEntry) return accel.scene->instances[entry].local_ray(ray, t_max);
+    LocalRay world{ray, 1.0f};
+    world.ray.t_max = t_max;
+    return world;
+}
+
+// Calls visit(entry) for each entry of a top-level leaf, while it returns false.
+template <typename Visit>
+[[gnu::always_inline]] inline bool for_entries(const AccelScene& accel, uint32_t first_block, uint32_t block_count,
+                                               Visit&& visit) {
+    const uint32_t* entry = &accel.top.prim_ids[size_t(first_block) * bvh::kBlockWidth];
+    const uint32_t* end = entry + size_t(block_count) * bvh::kBlockWidth;
+    for (; entry != end; ++entry)
+        if (*entry != bvh::kNoPrim && visit(*entry)) return true;
+    return false;
+}
+
+template <typename Observer>
+bool intersect_with(const AccelScene& accel, const Ray& ray, Hit& hit, Observer observer) {
+    const Scene& scene = *accel.scene;
+    hit = Hit{};
+    // Spheres first: their hit shortens the ray the trees have to follow.
+    Ray clipped = ray;
+    for (size_t s = 0; s < scene.spheres.size(); ++s) {
+        float t;
+        if (intersect_sphere(clipped, scene.spheres[s], t)) {
+            clipped.t_max = t;
+            hit = {t, uint32_t(scene.triangles.size() + s), 0.0f, 0.0f};
+        }
+    }
+    if (!accel.instanced()) {
+        closest_in(accel.world, clipped, hit, observer);
+        return hit.found();
+    }
+    Hit nearest;
+    const bool found = traverse_wide<bvh::Query::closest_hit, false>(
+        accel.top, clipped,
+        [&](uint32_t first_block, uint32_t block_count, float& t_max) {
+            bool found_here = false;
+            for_entries(accel, first_block, block_count, [&](uint32_t entry) {
+                Hit h;
+                const LocalRay local = entry_ray(accel, entry, clipped, t_max);
+                if (closest_in(accel.tree_of(entry), local.ray, h, nested(observer))) {
+                    h.t /= local.t_scale;
+                    if (!(h.t < t_max)) return false;  // the rounding of the scale
+                    t_max = h.t;
+                    nearest = h;
+                    nearest.instance = entry == AccelScene::kWorldEntry ? kNoInstance : entry;
+                    found_here = true;
+                }
+                return false;
+            });
+            return found_here;
+        },
+        [](bvh::ChildRef) {}, observer);
+    if (found) hit = nearest;
+    return hit.found();
+}
+
+template <typename Observer>
+float visibility_with(const AccelScene& accel, const Ray& ray, Observer observer) {
+    for (const Sphere& sphere : accel.scene->spheres) {
+        float t;
+        if (intersect_sphere(ray, sphere, t)) return 0.0f;
+    }
     float visibility = 1.0f;
     bool stopped;
-    if (data.moving)
-        stopped = data.filtered ? any_hit<true, true>(data, ray, visibility, observer)
-                                : any_hit<true, false>(data, ray, visibility, observer);
-    else
-        stopped = data.filtered ? any_hit<false, true>(data, ray, visibility, observer)
-                                : any_hit<false, false>(data, ray, visibility, observer);
+    if (!accel.instanced()) {
+        stopped = any_in(accel.world, ray, visibility, observer);
+    } else {
+        stopped = traverse_wide<bvh::Query::any_hit, false>(
+            accel.top, ray,
+            [&](uint32_t first_block, uint32_t block_count, float& t_max) {
+                return for_entries(accel, first_block, block_count, [&](uint32_t entry) {
+                    return any_in(accel.tree_of(entry), entry_ray(accel, entry, ray, t_max).ray, visibility,
+                                  nested(observer));
+                });
+            },
+            [](bvh::ChildRef) {}, observer);
+    }
     return stopped ? 0.0f : visibility;
 }
 
 const AccelKernels kKernels = {
-    [](const AccelData& d, const Ray& r, Hit& h) { return intersect_with(d, r, h, SilentObserver{}); },
-    [](const AccelData& d, const Ray& r, Hit& h, TraversalStats& s) { return intersect_with(d, r, h, CountingObserver{s}); },
-    [](const AccelData& d, const Ray& r, Hit& h, TraversalRecord& rec) {
+    [](const AccelScene& d, const Ray& r, Hit& h) { return intersect_with(d, r, h, SilentObserver{}); },
+    [](const AccelScene& d, const Ray& r, Hit& h, TraversalStats& s) { return intersect_with(d, r, h, CountingObserver{s}); },
+    [](const AccelScene& d, const Ray& r, Hit& h, TraversalRecord& rec) {
         return intersect_with(d, r, h, RecordingObserver{rec});
     },
-    [](const AccelData& d, const Ray& r) { return visibility_with(d, r, SilentObserver{}); },
-    [](const AccelData& d, const Ray& r, TraversalStats& s) { return visibility_with(d, r, CountingObserver{s}); },
-    [](const AccelData& d, const Ray& r, TraversalRecord& rec) { return visibility_with(d, r, RecordingObserver{rec}); },
+    [](const AccelScene& d, const Ray& r) { return visibility_with(d, r, SilentObserver{}); },
+    [](const AccelScene& d, const Ray& r, TraversalStats& s) { return visibility_with(d, r, CountingObserver{s}); },
+    [](const AccelScene& d, const Ray& r, TraversalRecord& rec) { return visibility_with(d, r, RecordingObserver{rec}); },
 };

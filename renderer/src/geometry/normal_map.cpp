@@ -28,7 +28,13 @@ glm::vec4 tangent_at(const Scene& scene, const Hit& hit) {
     const glm::vec4 t0 = scene.tangents[tri.x], t1 = scene.tangents[tri.y], t2 = scene.tangents[tri.z];
     if (t0.w == 0.0f || t1.w == 0.0f || t2.w == 0.0f) return glm::vec4(0.0f);
     const glm::vec4 t = (1.0f - hit.u - hit.v) * t0 + hit.u * t1 + hit.v * t2;
-    return glm::vec4(vec3(t), t.w < 0.0f ? -1.0f : 1.0f);
+    const float w = t.w < 0.0f ? -1.0f : 1.0f;
+    const Instance* instance = scene.instance_of(hit.instance);
+    if (!instance) return glm::vec4(vec3(t), w);
+    // A tangent goes with the vertices (the linear part, as the loader places
+    // them); a mirroring instance flips the bitangent, so w too.
+    const bool mirrored = glm::determinant(instance->to_world.linear) < 0.0f;
+    return glm::vec4(instance->to_world.vector(vec3(t)), mirrored ? -w : w);
 }
 
 void apply_normal_map(const Scene& scene, const Material& m, const Hit& hit, vec3 authored, vec3 wo,

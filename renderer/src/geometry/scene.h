@@ -13,8 +13,10 @@
 
 #include "util/bounds.h"
 #include "geometry/background.h"
+#include "geometry/instance.h"
 #include "geometry/material.h"
 #include "util/math.h"
+#include "util/ray.h"
 #include "rt/render.pb.h"
 #include "rt/scene.pb.h"
 #include "geometry/sphere.h"
@@ -74,6 +76,13 @@ struct Scene {
 
     std::vector<uvec3> triangles;            // vertex indices
     std::vector<uint32_t> triangle_materials; // one per triangle
+    // Meshes drawn more than once, each stored once in its own space: their
+    // triangles are the tail of `triangles`, from world_triangles() on, in
+    // the order of `meshes`; the instances place them. Triangles before that
+    // are in world space. In a moving scene an instanced mesh's vertices
+    // have positions_close too (equal to positions: instances stand still).
+    std::vector<SharedMesh> meshes;
+    std::vector<Instance> instances;
 
     std::vector<Sphere> spheres;
     std::vector<Material> materials;
@@ -92,6 +101,19 @@ struct Scene {
     size_t degenerate_triangles = 0;  // dropped because no ray can hit them
 
     bool moving() const { return !positions_close.empty(); }
+    size_t world_triangles() const { return meshes.empty() ? triangles.size() : meshes.front().first_triangle; }
+    // The triangles rays meet: the world-space ones and each instance's.
+    size_t placed_triangles() const {
+        size_t placed = world_triangles();
+        for (const Instance& instance : instances) placed += meshes[instance.mesh].triangle_count;
+        return placed;
+    }
+    // The instance that placed a hit's triangle, or null for a world-space one.
+    const Instance* instance_of(uint32_t instance) const {
+        return instance == kNoInstance ? nullptr : &instances[instance];
+    }
+    // Of one shared mesh, in its own space, over the whole shutter interval.
+    Bounds3 mesh_bounds(uint32_t mesh) const;
     // Only for a moving scene.
     vec3 position_at(uint32_t vertex, float time) const {
         return lerp_position(positions[vertex], positions_close[vertex], time);

@@ -2,21 +2,20 @@
 
 #include <algorithm>
 
+#include "geometry/triangle_corners.h"
+
 namespace rt {
 
 ShadowOrigin shadow_terminator_origin(const Scene& scene, const Hit& hit, const SurfaceHit& s, float side) {
     if (hit.primitive >= scene.triangles.size()) return {s.p, s.p_error};
-    const uvec3 tri = scene.triangles[hit.primitive];
-    const bool moving = scene.moving();
+    const TriangleCorners c = triangle_corners(scene, hit, s.time);
     const float b[3] = {1.0f - hit.u - hit.v, hit.u, hit.v};
     vec3 offset(0.0f);
     for (int i = 0; i < 3; ++i) {
-        const uint32_t v = tri[i];
-        const vec3 p = moving ? scene.position_at(v, s.time) : scene.positions[v];
         // Unit at both ends of the shutter, in between a little shorter (as
         // surface_at interpolates them), which lowers the lift by as much.
-        const vec3 n =
-            side * (moving ? lerp_position(scene.normals[v], scene.normals_close[v], s.time) : scene.normals[v]);
+        const vec3 p = c.p[i];
+        const vec3 n = side * c.n[i];
         offset -= b[i] * std::min(0.0f, glm::dot(s.p - p, n)) * n;
     }
     // The lift is computed from differences of nearby points; its own

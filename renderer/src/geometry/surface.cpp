@@ -2,6 +2,7 @@
 
 #include "geometry/sphere.h"
 #include "geometry/triangle.h"
+#include "geometry/triangle_corners.h"
 
 namespace rt {
 namespace {
@@ -39,23 +40,18 @@ SurfaceHit surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
         return s;
     }
 
-    const uvec3 tri = scene.triangles[hit.primitive];
-    const bool moving = scene.moving();
-    const auto position = [&](uint32_t v) { return moving ? scene.position_at(v, ray.time) : scene.positions[v]; };
-    // Lengths change along the way; the normalisation below restores them.
-    const auto normal = [&](uint32_t v) {
-        return moving ? lerp_position(scene.normals[v], scene.normals_close[v], ray.time) : scene.normals[v];
-    };
-    const vec3 p0 = position(tri.x), p1 = position(tri.y), p2 = position(tri.z);
+    const TriangleCorners c = triangle_corners(scene, hit, ray.time);
+    const uvec3 tri = c.vertices;
+    const vec3 p0 = c.p[0], p1 = c.p[1], p2 = c.p[2];
     const float b0 = 1.0f - hit.u - hit.v;
     s.p = b0 * p0 + hit.u * p1 + hit.v * p2;
-    s.p_error = gamma_bound(7) * (glm::abs(b0 * p0) + glm::abs(hit.u * p1) + glm::abs(hit.v * p2));
+    s.p_error = gamma_bound(7) * (glm::abs(b0 * p0) + glm::abs(hit.u * p1) + glm::abs(hit.v * p2)) + c.placement_error;
     // Zero only for a triangle with no area, which the loaders drop; one built
     // otherwise, or moving through such a pose, faces the ray that found it.
     const dvec3 area = area_normal(p0, p1, p2);
     s.ng = area != dvec3(0.0) ? vec3(glm::normalize(area)) : -glm::normalize(ray.direction);
 
-    s.ns = try_normalize(b0 * normal(tri.x) + hit.u * normal(tri.y) + hit.v * normal(tri.z)).value_or(s.ng);
+    s.ns = try_normalize(b0 * c.n[0] + hit.u * c.n[1] + hit.v * c.n[2]).value_or(s.ng);
     if (!scene.texcoords.empty())
         s.uv = b0 * scene.texcoords[tri.x] + hit.u * scene.texcoords[tri.y] + hit.v * scene.texcoords[tri.z];
     if (!scene.texcoords1.empty())

@@ -82,6 +82,9 @@ class GltfSceneBuilder {
     void add_extra_attributes(const Attributes& attributes, const World& world);
     void add_triangles(int mode, const std::vector<uint32_t>& corners, size_t count, size_t base, bool mirrored,
                        uint32_t material);
+    void add_mesh(size_t mesh, const World& world);
+    bool instanceable(size_t mesh, const World& world) const;
+    void add_shared_meshes();
     void add_camera(const tinygltf::Node& node, const std::string& what, const World& world);
     void add_light(const tinygltf::Node& node, const std::string& what, const dmat4& world);
 
@@ -90,6 +93,11 @@ class GltfSceneBuilder {
     LoadedScene loaded_;
     GltfMaterials materials_;
     GltfPoses poses_;
+    // Nodes per mesh, and the still placements of each mesh drawn more than
+    // once, which become instances of one stored copy (geometry/instance.h).
+    std::vector<uint32_t> mesh_uses_;
+    std::vector<std::vector<dmat4>> placements_;
+    std::vector<size_t> placed_order_;  // meshes in the order of their first placement
     // Whether Scene::texcoords1, colors and tangents hold one per vertex yet.
     bool has_texcoords1_ = false, has_colors_ = false, has_tangents_ = false;
 };
@@ -121,6 +129,10 @@ LoadedScene GltfSceneBuilder::build() {
     std::reverse(stack.begin(), stack.end());
     std::vector<char> visited(model_.nodes.size(), 0);
     std::vector<World> world(model_.nodes.size());
+    mesh_uses_.assign(model_.meshes.size(), 0);
+    placements_.assign(model_.meshes.size(), {});
+    for (const tinygltf::Node& node : model_.nodes)
+        if (node.mesh >= 0 && size_t(node.mesh) < model_.meshes.size()) ++mesh_uses_[size_t(node.mesh)];
     while (!stack.empty()) {
         const Reference reference = std::move(stack.back());
         stack.pop_back();
@@ -143,10 +155,7 @@ LoadedScene GltfSceneBuilder::build() {
         if (node.mesh != -1) {
             if (node.mesh < 0 || size_t(node.mesh) >= model_.meshes.size())
                 fail(what + ".mesh refers to mesh " + std::to_string(node.mesh) + ", which does not exist");
-            const tinygltf::Mesh& mesh = model_.meshes[size_t(node.mesh)];
-            for (size_t k = 0; k < mesh.primitives.size(); ++k)
-                add_primitive(mesh.primitives[k], at("meshes", size_t(node.mesh)) + "." + at("primitives", k),
-                              world[index]);
+            add_mesh(size_t(node.mesh), world[index]);
         }
         if (node.camera != -1) add_camera(node, what, world[index]);
         // Lights stand still: where they are when the shutter opens.
@@ -154,7 +163,56 @@ LoadedScene GltfSceneBuilder::build() {
         for (auto child = node.children.rbegin(); child != node.children.rend(); ++child)
             stack.push_back({*child, int(index), what + ".children"});
     }
+    add_shared_meshes();
     return std::move(loaded_);
+}
+
+// A mesh that several nodes draw is stored once and instanced where it stands
+// still under a transform that can be inverted; elsewhere (moving, or
+// flattened to a plane) its triangles are copied into world space as before.
+bool GltfSceneBuilder::instanceable(size_t mesh, const World& world) const {
+    if (mesh_uses_[mesh] < 2 || world.open != world.close) return false;
+    const double det = glm::determinant(dmat3(world.open));
+    // Float holds the transform and its inverse: no scale beyond 1e±12 or so.
+    return std::isfinite(det) && std::abs(det) > 1e-36 && std::abs(det) < 1e36 && fits_float(dvec3(world.open[3]));
+}
+
+void GltfSceneBuilder::add_mesh(size_t mesh, const World& world) {
+    if (instanceable(mesh, world)) {
+        if (placements_[mesh].empty()) placed_order_.push_back(mesh);
+        placements_[mesh].push_back(world.open);
+        return;
+    }
+    const tinygltf::Mesh& m = model_.meshes[mesh];
+    for (size_t k = 0; k < m.primitives.size(); ++k)
+        add_primitive(m.primitives[k], at("meshes", mesh) + "." + at("primitives", k), world);
+}
+
+// After every node: the shared meshes' triangles are the tail of the scene's,
+// in their own space; a mesh placed only once after all is copied like any.
+void GltfSceneBuilder::add_shared_meshes() {
+    Scene& scene = loaded_.scene;
+    std::vector<size_t> shared;
+    for (size_t mesh : placed_order_) {
+        if (placements_[mesh].size() == 1) {
+            const tinygltf::Mesh& m = model_.meshes[mesh];
+            for (size_t k = 0; k < m.primitives.size(); ++k)
+                add_primitive(m.primitives[k], at("meshes", mesh) + "." + at("primitives", k),
+                              {placements_[mesh][0], placements_[mesh][0]});
+        } else {
+            shared.push_back(mesh);
+        }
+    }
+    for (size_t mesh : shared) {
+        const uint32_t first = uint32_t(scene.triangles.size());
+        const tinygltf::Mesh& m = model_.meshes[mesh];
+        for (size_t k = 0; k < m.primitives.size(); ++k)
+            add_primitive(m.primitives[k], at("meshes", mesh) + "." + at("primitives", k), World{});
+        const uint32_t number = uint32_t(scene.meshes.size());
+        scene.meshes.push_back({first, uint32_t(scene.triangles.size()) - first});
+        for (const dmat4& placement : placements_[mesh])
+            scene.instances.push_back(Instance::make(number, Affine{mat3(dmat3(placement)), vec3(dvec3(placement[3]))}));
+    }
 }
 
 void GltfSceneBuilder::add_primitive(const tinygltf::Primitive& primitive, const std::string& what,

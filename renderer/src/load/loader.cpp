@@ -66,13 +66,21 @@ void drop_degenerate_triangles(Scene& scene, const std::string& name) {
         return area > 0.0 && std::isfinite(area);
     };
     size_t kept = 0;
+    // Shared meshes keep their order; their ranges shrink by what they lose.
+    size_t mesh = 0;
+    std::vector<SharedMesh> meshes = scene.meshes;
     for (size_t t = 0; t < scene.triangles.size(); ++t) {
+        for (; mesh < meshes.size() && t == scene.meshes[mesh].first_triangle; ++mesh) meshes[mesh].first_triangle = uint32_t(kept);
         const uvec3 tri = scene.triangles[t];
         if (!hittable(scene.positions, tri) && !(scene.moving() && hittable(scene.positions_close, tri))) continue;
         scene.triangles[kept] = tri;
         scene.triangle_materials[kept] = scene.triangle_materials[t];
         ++kept;
     }
+    for (; mesh < meshes.size(); ++mesh) meshes[mesh].first_triangle = uint32_t(kept);
+    for (size_t m = 0; m < meshes.size(); ++m)
+        meshes[m].triangle_count = uint32_t((m + 1 < meshes.size() ? meshes[m + 1].first_triangle : kept) - meshes[m].first_triangle);
+    scene.meshes = std::move(meshes);
     scene.degenerate_triangles = scene.triangles.size() - kept;
     scene.triangles.resize(kept);
     scene.triangle_materials.resize(kept);

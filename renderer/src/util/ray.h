@@ -19,6 +19,7 @@ struct Ray {
 };
 
 inline constexpr uint32_t kNoPrimitive = 0xffffffffu;
+inline constexpr uint32_t kNoInstance = 0xffffffffu;
 
 // Primitives are numbered triangles first, then spheres. (u, v) are the
 // barycentric weights of a triangle's second and third vertex, or the sphere's
@@ -28,6 +29,9 @@ struct Hit {
     uint32_t primitive = kNoPrimitive;
     float u = 0.0f;
     float v = 0.0f;
+    // The Scene::instances entry that placed the triangle, kNoInstance for the
+    // scene's own world-space triangles and its spheres.
+    uint32_t instance = kNoInstance;
 
     bool found() const { return primitive != kNoPrimitive; }
 };
