@@ -130,6 +130,7 @@ bench: build samples
 	$(PY) tests/bench/service_bench.py --scenes $(SCENES) --rtrender $(BUILD)/rtrender
 	$(PY) renderer/bench/alpha_cost.py --assets $(ASSETS) --rtrender $(BUILD)/rtrender
 	$(PY) renderer/bench/motion_cost.py --scenes $(SCENES) --rtrender $(BUILD)/rtrender
+	$(PY) renderer/bench/instancing_cost.py --scenes $(SCENES) --rtrender $(BUILD)/rtrender
 	$(PY) renderer/bench/product_memory.py
 	$(PY) tests/bench/compressed_load_bench.py --scenes $(SCENES) --out $(BUILD)/bench
 	$(MAKE) --no-print-directory fuzz FUZZ_SECONDS=$(BENCH_FUZZ_SECONDS)

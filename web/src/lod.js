@@ -91,6 +91,11 @@ function triangleCount(geometry) {
   return (geometry.index ? geometry.index.count : geometry.attributes.position.count) / 3;
 }
 
+// What a mesh draws: an InstancedMesh its geometry once per instance.
+function drawnTriangles(mesh) {
+  return triangleCount(mesh.geometry) * (mesh.isInstancedMesh ? mesh.count : 1);
+}
+
 export class InteractiveLod {
   constructor(viewer) {
     this.viewer = viewer;
@@ -189,19 +194,20 @@ export class InteractiveLod {
     this.clear();
     const meshes = [];
     this.viewer.model.traverse((o) => {
-      if (o.isMesh && triangleCount(o.geometry) >= MIN_PROXY_SOURCE) meshes.push(o);
+      if (o.isMesh && drawnTriangles(o) >= MIN_PROXY_SOURCE) meshes.push(o);
     });
     if (!meshes.length) return;
     this.fullFrameMs = this.timeFrame();
     if (this.fullFrameMs <= FRAME_BUDGET_MS) return;
     // Far over budget: the first move starts at a lower resolution rather than finding it frame by frame.
     this.resolution = Math.max(MIN_RESOLUTION, Math.min(1, Math.sqrt((4 * FRAME_BUDGET_MS) / this.fullFrameMs)));
-    const total = meshes.reduce((n, m) => n + triangleCount(m.geometry), 0);
+    const total = meshes.reduce((n, m) => n + drawnTriangles(m), 0);
     const perMs = total / this.fullFrameMs;
     const budget = Math.max(2_000, perMs * FRAME_BUDGET_MS * PROXY_SHARE);
     // Meshes drawn by several nodes share one geometry, and so one proxy.
     const proxies = new Map();
     for (const mesh of meshes) {
+      // Triangles for one copy of this geometry: its share of the budget over the copies drawn.
       const share = (budget * triangleCount(mesh.geometry)) / total;
       let proxy = proxies.get(mesh.geometry) ?? null;
       if (!proxy) {
@@ -215,7 +221,9 @@ export class InteractiveLod {
         }
         proxies.set(mesh.geometry, proxy);
       }
-      const stand = new THREE.Mesh(proxy, mesh.material);
+      const stand = mesh.isInstancedMesh ? new THREE.InstancedMesh(proxy, mesh.material, mesh.count)
+        : new THREE.Mesh(proxy, mesh.material);
+      if (mesh.isInstancedMesh) stand.instanceMatrix = mesh.instanceMatrix;
       stand.name = `${mesh.name || "mesh"} (proxy while moving)`;
       stand.visible = false;
       stand.matrixAutoUpdate = false;
@@ -223,7 +231,7 @@ export class InteractiveLod {
       stand.matrix.copy(mesh.matrix);
       this.pairs.push({ full: mesh, proxy: stand });
     }
-    this.proxyTriangles = this.pairs.reduce((n, p) => n + triangleCount(p.proxy.geometry), 0);
+    this.proxyTriangles = this.pairs.reduce((n, p) => n + drawnTriangles(p.proxy), 0);
   }
 
   clear() {

@@ -5,6 +5,7 @@ import * as THREE from "three";
 import { OrbitControls } from "three/addons/controls/OrbitControls.js";
 import { GLTFLoader } from "three/addons/loaders/GLTFLoader.js";
 import { SkyBackground, glbBackgrounds } from "./background.js";
+import { instanceSharedMeshes } from "./instancing.js";
 import { InteractiveLod } from "./lod.js";
 import { copyPose, fitAspect, perspectivePosition, setOrthoHeight, viewHeight } from "./view-projection.js";
 
@@ -263,6 +264,7 @@ export class Viewer extends EventTarget {
         for (const m of [].concat(object.material)) m.side = THREE.DoubleSide;
       }
     });
+    this.instancedMeshes = instanceSharedMeshes(gltf.scene);
     this.model.add(gltf.scene);
     this.sceneBackgrounds = glbBackgrounds(gltf.scene);
     this.showLightRig(this.rigOn ?? true);
