@@ -101,6 +101,8 @@ NB_MODULE(rtcore, m) {
                      "and the loader's warnings (the service fills in the rest).")
         .def_prop_ro("triangle_count", &PyScene::triangle_count,
                      "The triangles rays meet: each instance of a shared mesh counts its own.")
+        .def_prop_ro("memory_bytes", &PyScene::memory_bytes,
+                     "What the loaded scene and its BVHs take in memory, as stored: a mesh that nodes share counts once.")
         .def_prop_ro("texture_bytes", &PyScene::texture_bytes,
                      "What the scene's textures take in memory: 8-bit texels with their mip levels.")
         .def_prop_ro("default_camera", &PyScene::default_camera, "Serialized rt.Camera used when none is given.")

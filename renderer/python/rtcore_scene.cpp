@@ -118,6 +118,11 @@ size_t PyScene::texture_bytes() const {
     return bytes;
 }
 
+size_t PyScene::memory_bytes() const {
+    const rt::AccelStats& s = accel_->stats();
+    return scene_->stored_bytes() + s.node_bytes + s.leaf_bytes;
+}
+
 nb::bytes PyScene::default_camera() const { return to_bytes(rt::default_camera(*scene_)); }
 
 nb::dict PyScene::bvh_stats() const {

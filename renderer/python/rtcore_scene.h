@@ -34,6 +34,8 @@ class PyScene {
     // That rays meet: each instance of a shared mesh counts (bvh_stats() has those stored).
     size_t triangle_count() const { return scene_->placed_triangles(); }
     size_t texture_bytes() const;
+    // The scene and its BVHs as stored: each shared mesh once, whatever its instances.
+    size_t memory_bytes() const;
     nb::bytes default_camera() const;
     nb::dict bvh_stats() const;
 

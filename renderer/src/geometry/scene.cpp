@@ -38,4 +38,14 @@ Bounds3 Scene::bounds() const {
     return b;
 }
 
+size_t Scene::stored_bytes() const {
+    const auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+    size_t total = bytes(positions) + bytes(normals) + bytes(texcoords) + bytes(texcoords1) + bytes(colors) +
+                   bytes(tangents) + bytes(positions_close) + bytes(normals_close) + bytes(triangles) +
+                   bytes(triangle_materials) + bytes(meshes) + bytes(instances) + bytes(spheres) + bytes(materials) +
+                   bytes(lights) + bytes(cameras);
+    for (const Texture& texture : textures) total += texture.bytes();
+    return total;
+}
+
 }  // namespace rt

@@ -121,6 +121,10 @@ struct Scene {
 
     // Of everything over the whole shutter interval.
     Bounds3 bounds() const;
+    // What the scene holds in memory: vertex attributes, triangles, shared
+    // meshes and instances, spheres, materials, lights and textures (their
+    // texels and mip levels); the BVH is the Accelerator's (AccelStats).
+    size_t stored_bytes() const;
 };
 
 }  // namespace rt

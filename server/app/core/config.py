@@ -46,6 +46,9 @@ class Settings:
     # Finished tile streams kept in memory for late viewers; older jobs are
     # streamed from their image on disk.
     kept_streams: int = field(default_factory=lambda: _int("RT_KEPT_STREAMS", 8))
+    # Loaded scenes a process keeps (their memory_bytes summed, BVHs included);
+    # 0: half of the machine's memory. Read by each worker from its environment.
+    scene_cache_bytes: int = field(default_factory=lambda: _int("RT_SCENE_CACHE_MB", 0) << 20)
 
     @property
     def scenes_dir(self) -> Path:

@@ -1,9 +1,11 @@
 """Loaded scenes, one per process, keyed by the upload's content hash.
 
 Loading a scene and building its BVH costs far more than rendering a tile, so
-every worker keeps the scenes it has loaded. When memory runs short the least
-recently used scenes go first; a scene in use stays alive through its callers'
-references even after eviction.
+every worker keeps the scenes it has loaded, within a budget of their
+memory_bytes (what rtcore really stores: a mesh that many nodes share counts
+once; Settings.scene_cache_bytes). Beyond it, or when the machine's memory runs
+short, the least recently used scenes go first; a scene in use stays alive
+through its callers' references even after eviction.
 """
 
 from __future__ import annotations
@@ -14,6 +16,8 @@ from pathlib import Path
 
 import psutil
 import rtcore
+
+from ..core.config import load_settings
 
 # Keep at least this share of the machine's memory free; evict beyond it.
 MIN_AVAILABLE_FRACTION = 0.15
@@ -29,9 +33,20 @@ def _memory_short() -> bool:
     return memory.available < MIN_AVAILABLE_FRACTION * memory.total
 
 
-def _evict_while_needed(keep: str) -> None:
+def budget_bytes() -> int:
+    return load_settings().scene_cache_bytes or psutil.virtual_memory().total // 2
+
+
+def cached_bytes() -> int:
     with _lock:
-        while _scenes and (len(_scenes) > MAX_SCENES or _memory_short()):
+        return sum(scene.memory_bytes for scene in _scenes.values())
+
+
+def _evict_while_needed(keep: str) -> None:
+    budget = budget_bytes()
+    with _lock:
+        while _scenes and (len(_scenes) > MAX_SCENES or _memory_short()
+                           or sum(scene.memory_bytes for scene in _scenes.values()) > budget):
             oldest = next(iter(_scenes))
             if oldest == keep:
                 if len(_scenes) == 1:
