@@ -45,3 +45,14 @@ def wait_for(client, job_id: str, timeout: float = 60) -> dict:
             return job
         assert time.monotonic() < deadline, f"job {job_id} still {job['state']}"
         time.sleep(0.05)
+
+
+def render_color(client, body: dict) -> tuple[dict, np.ndarray]:
+    """Submits the job `body`, waits for it to be DONE, and returns its record and colour (RGB)."""
+    from app.services import layer_files
+
+    response = client.post("/api/jobs", json=body)
+    assert response.status_code == 202, response.text
+    job = wait_for(client, response.json()["id"])
+    assert job["state"] == "DONE", job
+    return job, layer_files.load(client.app.state.settings.jobs_dir / job["id"], "color")[..., :3]

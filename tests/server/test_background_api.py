@@ -9,9 +9,8 @@ import zipfile
 
 import numpy as np
 import pytest
-from app.services import layer_files
 
-from stream_reader import wait_for
+from stream_reader import render_color
 
 SIZE = 9
 # Level, looking down -Z, 90 degrees: every ray misses the triangle behind the camera.
@@ -32,11 +31,7 @@ def empty_view_id(client):
 
 def render(client, scene_id, **settings):
     body = {"scene_id": scene_id, "camera": CAMERA, "settings": {"width": SIZE, "height": SIZE, **settings}}
-    response = client.post("/api/jobs", json=body)
-    assert response.status_code == 202, response.text
-    job = wait_for(client, response.json()["id"])
-    assert job["state"] == "DONE", job
-    return layer_files.load(client.app.state.settings.jobs_dir / job["id"], "color")[..., :3]
+    return render_color(client, body)[1]
 
 
 def test_the_sidecars_background_unless_the_settings_give_one(client, empty_view_id):

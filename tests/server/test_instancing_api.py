@@ -8,10 +8,9 @@ import struct
 import numpy as np
 import pytest
 import rtcore
-from app.services import layer_files
 
 from instanced_scene import instanced_gltf
-from stream_reader import wait_for
+from stream_reader import render_color
 
 W, H = 64, 48
 NODES = 30
@@ -35,12 +34,7 @@ def copies(client):
 
 
 def render(client, scene_id):
-    body = {"scene_id": scene_id, "camera": CAMERA, "settings": {"width": W, "height": H}}
-    response = client.post("/api/jobs", json=body)
-    assert response.status_code == 202, response.text
-    job = wait_for(client, response.json()["id"])
-    assert job["state"] == "DONE", job
-    return layer_files.load(client.app.state.settings.jobs_dir / job["id"], "color")[..., :3]
+    return render_color(client, {"scene_id": scene_id, "camera": CAMERA, "settings": {"width": W, "height": H}})[1]
 
 
 def test_scene_info_counts_every_placed_triangle(shared, copies):
