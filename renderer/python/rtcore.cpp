@@ -140,6 +140,8 @@ NB_MODULE(rtcore, m) {
              "Whether anything lies on each ray before t_max.")
         .def("debug_path", &PyScene::debug_path, "camera"_a, "settings"_a, "x"_a, "y"_a,
              "Every ray traced for pixel (x, y): serialized rt.DebugPath.")
-        .def("bvh_boxes", &PyScene::bvh_boxes, "level"_a,
-             "Boxes of one BVH level (0 = root), or of all leaves for level < 0: serialized rt.BvhBoxes.");
+        .def("bvh_boxes", &PyScene::bvh_boxes, "level"_a, "tree"_a = "top",
+             "Boxes of one BVH level (0 = root), or of all leaves for level < 0, of the tree named by `tree`: "
+             "'top' (the top level, or the scene's only tree), 'world' (the triangles placed once beside "
+             "instances) or an instance number. Serialized rt.BvhBoxes; ValueError for a tree the scene lacks.");
 }

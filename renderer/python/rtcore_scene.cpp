@@ -1,8 +1,10 @@
 #include "rtcore_scene.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include <nanobind/stl/pair.h>
 #include <nanobind/stl/string.h>
@@ -186,11 +188,32 @@ nb::ndarray<nb::numpy, bool> PyScene::occluded(const Points& origins, const Poin
     return nb::ndarray<nb::numpy, bool>(owned->data(), {n}, owner);
 }
 
-nb::bytes PyScene::bvh_boxes(int level) const {
-    const rt::Accelerator::LevelBoxes boxes = accel_->boxes(level);
+nb::bytes PyScene::bvh_boxes(int level, const std::string& tree) const {
+    // "top", "world" or an instance number, as GET /api/scenes/<id>/bvh?tree= takes it.
+    uint32_t walked = rt::Accelerator::kTopTree;
+    rt::BvhTreeKind kind = rt::BVH_TREE_TOP;
+    if (tree == "world") {
+        walked = rt::AccelScene::kWorldEntry;
+        kind = rt::BVH_TREE_WORLD;
+    } else if (tree != "top") {
+        size_t used = 0;
+        unsigned long instance = 0;
+        try {
+            instance = std::stoul(tree, &used);
+        } catch (const std::exception&) {
+            used = 0;
+        }
+        if (used == 0 || used != tree.size() || !std::isdigit(static_cast<unsigned char>(tree[0])) ||
+            instance >= accel_->instance_count())
+            throw std::invalid_argument("tree: '" + tree + "' is not top, world or an instance number below " +
+                                        std::to_string(accel_->instance_count()));
+        walked = uint32_t(instance);
+        kind = rt::BVH_TREE_INSTANCE;
+    }
+    const rt::Accelerator::LevelBoxes boxes = accel_->boxes(level, walked);
     rt::BvhBoxes message;
     message.set_level(level < 0 ? -1 : level);
-    message.set_total_levels(accel_->stats().depth + 1);
+    message.set_total_levels(boxes.depth + 1);
     message.mutable_nodes()->Add(boxes.nodes.begin(), boxes.nodes.end());
     message.mutable_leaf_triangles()->Add(boxes.triangles.begin(), boxes.triangles.end());
     for (uint8_t leaf : boxes.leaf) message.add_leaf(leaf != 0);
@@ -199,6 +222,14 @@ nb::bytes PyScene::bvh_boxes(int level) const {
     bounds->Reserve(int(boxes.bounds.size() * 6));
     for (const rt::Bounds3& b : boxes.bounds)
         for (float f : {b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z}) bounds->Add(f);
+    message.set_tree(kind);
+    if (kind == rt::BVH_TREE_INSTANCE) message.set_instance(walked);
+    for (int column = 0; column < 3; ++column)
+        for (int row = 0; row < 4; ++row) message.add_to_world(row < 3 ? boxes.to_world.linear[column][row] : 0.0f);
+    for (int row = 0; row < 3; ++row) message.add_to_world(boxes.to_world.translation[row]);
+    message.add_to_world(1.0f);
+    message.set_instance_count(uint32_t(accel_->instance_count()));
+    message.set_has_world_tree(accel_->has_world_entry());
     return to_bytes(message);
 }
 

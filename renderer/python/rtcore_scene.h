@@ -63,7 +63,7 @@ class PyScene {
     nb::tuple intersect(const Points& origins, const Points& directions, nb::handle t_max, unsigned threads) const;
     nb::ndarray<nb::numpy, bool> occluded(const Points& origins, const Points& directions, nb::handle t_max,
                                           unsigned threads) const;
-    nb::bytes bvh_boxes(int level) const;
+    nb::bytes bvh_boxes(int level, const std::string& tree) const;
 
   private:
     // A renderer for a camera and settings given as render_tile takes them.

@@ -3,6 +3,7 @@
 // debug queries' counts; the scene's bounds; renders equal to the flattened
 // scene's; shadow rays right at every scale through instance transforms; one
 // stored copy per shared mesh.
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -100,6 +101,51 @@ TEST(Instancing, DebugQueriesCountWhatThePlainOnesDo) {
     for (uint32_t t : leaves.triangles) placed += t;
     EXPECT_EQ(placed, flattened(scene).triangles.size());
     EXPECT_EQ(leaves.nodes.size(), scene.instances.size() + 1) << "one leaf per instance, and the world tree";
+}
+
+// The debugger reaches each entered tree in its own numbering: the boxes a
+// ray visited in an instance are boxes(level, instance)'s, and the leaf that
+// holds the hit, taken back to world space by the instance's transform, holds
+// the world hit point.
+TEST(Instancing, RecordsTheTreesEnteredInTheirOwnNumbering) {
+    const Scene scene = instanced_soup(30, 7);
+    const Accelerator accel(scene, 1);
+    std::vector<std::vector<uint32_t>> all_boxes(scene.instances.size());
+    size_t checked = 0;
+    for (const Ray& ray : rays_for(scene, 400)) {
+        Hit hit;
+        TraversalRecord record;
+        if (!accel.intersect(ray, hit, record) || hit.instance == kNoInstance) continue;
+        const auto entered = std::find_if(record.entered.begin(), record.entered.end(),
+                                          [&](const EnteredTree& e) { return e.entry == hit.instance; });
+        ASSERT_NE(entered, record.entered.end()) << "the hit instance's tree is not among those entered";
+        const Accelerator::LevelBoxes leaves = accel.boxes(-1, hit.instance);
+        const vec3 local = leaves.to_world.inverse().point(ray.at(hit.t));
+        bool holds = false;
+        for (uint32_t leaf : entered->visited_leaves) {
+            const auto at = std::find(leaves.nodes.begin(), leaves.nodes.end(), leaf);
+            ASSERT_NE(at, leaves.nodes.end()) << "visited leaf " << leaf << " is not a leaf of the instance's tree";
+            Bounds3 box = leaves.bounds[size_t(at - leaves.nodes.begin())];
+            box.min -= vec3(1e-4f), box.max += vec3(1e-4f);
+            holds = holds || box.contains(local);
+        }
+        EXPECT_TRUE(holds) << "no visited leaf holds the hit";
+        std::vector<uint32_t>& ids = all_boxes[hit.instance];
+        if (ids.empty())
+            for (int level = 0; level <= int(leaves.depth); ++level)
+                for (uint32_t id : accel.boxes(level, hit.instance).nodes) ids.push_back(id);
+        for (uint32_t node : entered->visited_nodes)
+            EXPECT_NE(std::find(ids.begin(), ids.end(), node), ids.end()) << "node " << node;
+        ++checked;
+    }
+    EXPECT_GT(checked, 50u);
+    for (uint32_t i = 0; i < scene.instances.size(); ++i)
+        EXPECT_EQ(accel.boxes(0, i).to_world.translation, scene.instances[i].to_world.translation);
+    const Accelerator::LevelBoxes world = accel.boxes(-1, AccelScene::kWorldEntry);
+    uint64_t world_triangles = 0;
+    for (uint32_t t : world.triangles) world_triangles += t;
+    EXPECT_EQ(world_triangles, scene.world_triangles());
+    EXPECT_THROW(accel.boxes(0, uint32_t(scene.instances.size())), std::invalid_argument);
 }
 
 TEST(Instancing, SceneBoundsHoldEveryPlacedVertex) {

@@ -117,7 +117,9 @@ void expect_decodes(int component_type) {
                                       " component " + std::to_string(k);
             EXPECT_EQ(v4.vec4_at(k / 4)[int(k % 4)], expected) << label;
             EXPECT_EQ(v2.vec2_at(k / 2)[int(k % 2)], expected) << label;
-            if (k % 4 < 3) EXPECT_EQ(v3.vec3_at(k / 4)[int(k % 4)], expected) << label;
+            if (k % 4 < 3) {
+                EXPECT_EQ(v3.vec3_at(k / 4)[int(k % 4)], expected) << label;
+            }
         }
         // The ends of the range: signed minima clamp to -1, maxima reach 1.
         if (normalized) {

@@ -86,3 +86,41 @@ def test_the_debugger_follows_a_ray_into_an_instance(client, shared):
     leaves = top.json()
     assert len(leaves["nodes"]) == NODES, "one top-level leaf per instance"
     assert sum(leaves["leaf_triangles"]) == 8 * NODES, "the top level's leaves place every instance"
+
+
+def corners(bounds, to_world):
+    """A box's eight corners taken to world space by a column-major 4x4."""
+    m = np.asarray(to_world, dtype=np.float64).reshape(4, 4).T
+    lo, hi = np.asarray(bounds[:3]), np.asarray(bounds[3:])
+    points = np.array([[hi[0] if c & 1 else lo[0], hi[1] if c & 2 else lo[1], hi[2] if c & 4 else lo[2], 1.0]
+                       for c in range(8)])
+    return (points @ m.T)[:, :3]
+
+
+def test_the_debugger_reaches_the_instance_tree_the_ray_entered(client, shared):
+    x, y = W // 2, H // 2
+    primary = client.post(f"/api/scenes/{shared['id']}/debug-ray",
+                          json={"camera": CAMERA, "settings": {"width": W, "height": H}, "pixel": [x, y]}).json()["segments"][0]
+    entered = [t for t in primary["trees"] if t.get("tree") == "BVH_TREE_INSTANCE"]
+    assert entered, primary["trees"]
+    hit = np.asarray(primary["end"])
+    held = []
+    for visit in entered:
+        tree = client.get(f"/api/scenes/{shared['id']}/bvh?leaves=true&tree={visit.get('instance', 0)}").json()
+        assert tree["tree"] == "BVH_TREE_INSTANCE" and tree["instance_count"] == NODES
+        assert tree["to_world"] != [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1], "an instance's own transform"
+        by_id = dict(zip(tree["nodes"], range(len(tree["nodes"]))))
+        for leaf in visit["visited_leaves"]:
+            assert leaf in by_id, f"leaf {leaf} is not one of instance {visit.get('instance', 0)}'s leaves"
+            world = corners(tree["bounds"][6 * by_id[leaf]:6 * by_id[leaf] + 6], tree["to_world"])
+            held.append(bool(np.all(hit >= world.min(0) - 1e-3) and np.all(hit <= world.max(0) + 1e-3)))
+    assert any(held), "a visited leaf of an entered instance, in world space, holds the hit point"
+    root = client.get(f"/api/scenes/{shared['id']}/bvh?level=0&tree={entered[0].get('instance', 0)}").json()
+    assert root["total_levels"] >= 1 and len(root["nodes"]) == 1
+
+
+@pytest.mark.parametrize("tree", ["nope", "-1", str(NODES), "1e3", "world", " 3", "99999999999"])
+def test_a_tree_the_scene_lacks_is_refused(client, shared, tree):
+    response = client.get(f"/api/scenes/{shared['id']}/bvh", params={"level": 0, "tree": tree})
+    assert 400 <= response.status_code < 500, response.text
+    assert "tree" in response.text

@@ -1,8 +1,9 @@
 // Shared meshes in the viewer (headless chromium against the real service):
 // a glTF whose nodes share one mesh comes through model.glb as one mesh drawn
 // by many nodes, and the view draws it as one InstancedMesh (but for the
-// nodes that mirror it); its pixels are
-// those of the same scene with a copy of the mesh per node.
+// nodes that mirror it); its pixels are those of the same scene with a copy
+// of the mesh per node. The debugger reaches the instance tree a traced ray
+// entered and draws its boxes where the instance stands.
 import assert from "node:assert/strict";
 import { after, before, describe, test } from "node:test";
 import { ARTIFACTS, launch, openPage, screenshot } from "./browser.mjs";
@@ -122,6 +123,54 @@ describe("shared meshes", { timeout: 120_000 }, () => {
     }
     assert.ok(lit > copies.pixels.length / 4 / 50, `the octahedra fill part of the view (${lit} pixels)`);
     assert.ok(off <= copies.pixels.length / 4 / 500, `${off} pixels differ from the copies' view`);
+  });
+
+  test("a traced ray's instance tree is one click away, its boxes drawn in world space", async () => {
+    await open("shared.gltf");
+    assert.equal(await page.isVisible("#bvh-tree-pick"), true, "a scene with instances offers its trees");
+    const sceneId = await page.evaluate(() => window.rt.state.scene.id);
+    const camera = { position: [0, 6, 8], target: [1.5, 0.8, -5], up: [0, 1, 0], fovY: 60 };
+    const hit = await page.evaluate(async (request) => {
+      const { debug } = window.rt;
+      debug.setJob({ request });
+      await debug.trace([32, 24]);
+      return Array.from(debug.rays.path.segments[0].end);
+    }, { sceneId, camera, settings: { width: 64, height: 48 } });
+    const button = page.locator("#bvh-entered button").first();
+    const tree = await button.getAttribute("data-tree");
+    assert.match(tree, /^\d+$/, "the ray entered an instance");
+    await button.click();
+    await page.waitForFunction((t) => window.rt.debug.bvh.data?.instance === Number(t) && window.rt.debug.bvh.lines.visible,
+      tree, { timeout: 10_000 });
+    const expected = await (await fetch(`${server.url}/api/scenes/${sceneId}/bvh?level=0&tree=${tree}`)).json();
+    const shown = await page.evaluate(() => {
+      const { bvh } = window.rt.debug;
+      bvh.lines.updateMatrixWorld(true);
+      const box = new window.rt.viewer.camera.position.constructor(); // a THREE.Vector3
+      const position = bvh.lines.geometry.attributes.position;
+      const min = [Infinity, Infinity, Infinity];
+      const max = [-Infinity, -Infinity, -Infinity];
+      for (let i = 0; i < position.count; i++) {
+        box.fromBufferAttribute(position, i).applyMatrix4(bvh.lines.matrixWorld);
+        box.toArray().forEach((v, k) => { min[k] = Math.min(min[k], v); max[k] = Math.max(max[k], v); });
+      }
+      return { select: document.getElementById("bvh-tree").value, instance: document.getElementById("bvh-instance").value,
+        matrix: bvh.lines.matrix.toArray(), boxes: bvh.shownBoxes, min, max };
+    });
+    assert.equal(shown.select, "instance");
+    assert.equal(shown.instance, tree);
+    assert.equal(shown.boxes, expected.nodes.length);
+    shown.matrix.forEach((v, k) => assert.ok(Math.abs(v - expected.to_world[k]) < 1e-6, `to_world[${k}]`));
+    for (let k = 0; k < 3; k++) {
+      assert.ok(hit[k] >= shown.min[k] - 1e-3 && hit[k] <= shown.max[k] + 1e-3,
+        `the instance's root box, in world space, holds the hit (axis ${k}: ${hit[k]} in ${shown.min[k]}..${shown.max[k]})`);
+    }
+    await screenshot(page, "instancing-instance-tree");
+    await page.selectOption("#bvh-tree", "top");
+    await page.waitForFunction(() => window.rt.debug.bvh.data?.tree === 0 && window.rt.debug.bvh.data.level === 0, null,
+      { timeout: 10_000 });
+    assert.deepEqual(await page.evaluate(() => window.rt.debug.bvh.lines.matrix.toArray()),
+      [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1], "the top level stands in world space");
   });
 
   test("no console errors", () => {

@@ -142,9 +142,9 @@ export async function debugRay(sceneId, camera, settings, pixel) {
   return parseJson("DebugPath", await request("POST", `/api/scenes/${encodeURIComponent(sceneId)}/debug-ray`, body));
 }
 
-/** The boxes of one BVH level (level < 0: the leaves). */
-export async function bvhBoxes(sceneId, level) {
-  const query = level < 0 ? "leaves=1" : `level=${level}`;
+/** The boxes of one BVH level (level < 0: the leaves) of a tree: "top", "world" or an instance number. */
+export async function bvhBoxes(sceneId, level, tree = "top") {
+  const query = `${level < 0 ? "leaves=1" : `level=${level}`}&tree=${encodeURIComponent(tree)}`;
   return parseJson("BvhBoxes", await request("GET", `/api/scenes/${encodeURIComponent(sceneId)}/bvh?${query}`));
 }
 

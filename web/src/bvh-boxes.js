@@ -1,9 +1,15 @@
-// The BVH boxes of one level (GET /api/scenes/<id>/bvh?level=N) as the 12
-// edges of each box in one LineSegments, inner nodes' and leaves' boxes in
-// their own colours; optionally only the boxes that the debugged ray (or the
-// pinned segment) visited.
+// The BVH boxes of one level of one tree (GET /api/scenes/<id>/bvh?level=N&tree=T)
+// as the 12 edges of each box in one LineSegments, inner nodes' and leaves'
+// boxes in their own colours; optionally only the boxes that the debugged ray
+// (or the pinned segment) visited. With instances the tree is the top level,
+// the one over the triangles placed once, or an instance's: its mesh's tree,
+// drawn through the instance's transform, so its boxes stand where the
+// instance does.
 import * as THREE from "three";
 import { bvhBoxes } from "./api.js";
+import { enumOf } from "./proto.js";
+
+const treeKind = (name) => enumOf("BvhTreeKind").values.find((v) => v.name === name).number;
 
 /** Edge colours: an inner node's box (its children are tested), a leaf's (its triangles are). */
 export const BOX_COLORS = { node: "#7cf29a", leaf: "#ff8fc8" };
@@ -38,9 +44,25 @@ export function boxEdgePositions(bounds, keep = () => true, leaf = []) {
   return { positions: out, colors, boxes: kept.length, leaves, kept };
 }
 
-/** The box numbers some ray segments visited: the nodes whose child boxes they tested and the leaves whose triangles they tested. */
-export function visitedBoxes(segments) {
-  return segments.flatMap((s) => [...s.visitedNodes, ...s.visitedLeaves]);
+/** The REST name of a tree a ray entered (a TreeVisit): "world" or the instance's number. */
+export function treeName(visit) {
+  return visit.tree === treeKind("BVH_TREE_WORLD") ? "world" : String(visit.instance);
+}
+
+/**
+ * The box numbers some ray segments visited in `tree` ("top", "world" or an
+ * instance number): the nodes whose child boxes they tested and the leaves
+ * whose triangles they tested.
+ */
+export function visitedBoxes(segments, tree = "top") {
+  if (tree === "top") return segments.flatMap((s) => [...s.visitedNodes, ...s.visitedLeaves]);
+  return segments.flatMap((s) => s.trees.filter((t) => treeName(t) === String(tree))
+    .flatMap((t) => [...t.visitedNodes, ...t.visitedLeaves]));
+}
+
+/** The trees below the top level some segments entered, by REST name, each once, in entering order. */
+export function enteredTrees(segments) {
+  return [...new Set(segments.flatMap((s) => s.trees.map(treeName)))];
 }
 
 export class BvhBoxes extends EventTarget {
@@ -48,17 +70,21 @@ export class BvhBoxes extends EventTarget {
     super();
     this.viewer = viewer;
     this.sceneId = null;
+    this.tree = "top";
+    this.instanceCount = 0; // instances the top level places (0: one tree)
+    this.hasWorldTree = false;
     this.level = 0;
     this.totalLevels = 0;
     this.nodeWidth = 0;
     this.data = null;
-    this.visited = null; // Set of box numbers (nodes and leaves), or null: show all
+    this.segments = null; // the debugged ray's segments, or null: no ray selected
     this.onlyVisited = false;
     this.cache = new Map();
     this.lines = new THREE.LineSegments(new THREE.BufferGeometry(),
       new THREE.LineBasicMaterial({ vertexColors: true, transparent: true, opacity: 0.55, depthWrite: false }));
     this.lines.name = "bvh boxes";
     this.lines.frustumCulled = false;
+    this.lines.matrixAutoUpdate = false; // the tree's to_world
     this.lines.visible = false;
     viewer.overlays.add(this.lines);
     this.shownBoxes = 0;
@@ -72,14 +98,34 @@ export class BvhBoxes extends EventTarget {
     this.data = null;
     this.totalLevels = 0;
     this.nodeWidth = 0;
+    this.instanceCount = 0;
+    this.hasWorldTree = false;
+    this.tree = "top";
     this.level = 0;
     this._rebuild();
     if (!sceneId) return Promise.resolve();
-    return bvhBoxes(sceneId, 0).then((root) => {
-      if (this.sceneId !== sceneId) return;
-      this.cache.set(`${sceneId}:0`, root);
+    return this._learnTree(sceneId, "top");
+  }
+
+  /** Walks another tree ("top", "world" or an instance number) from its root level. */
+  setTree(tree) {
+    this.tree = String(tree);
+    this.data = null;
+    this.totalLevels = 0;
+    this.level = 0;
+    this._rebuild();
+    if (!this.sceneId) return Promise.resolve();
+    return this._learnTree(this.sceneId, this.tree);
+  }
+
+  _learnTree(sceneId, tree) {
+    return bvhBoxes(sceneId, 0, tree).then((root) => {
+      if (this.sceneId !== sceneId || this.tree !== tree) return;
+      this.cache.set(`${sceneId}:${tree}:0`, root);
       this.totalLevels = root.totalLevels;
       this.nodeWidth = root.nodeWidth;
+      this.instanceCount = root.instanceCount;
+      this.hasWorldTree = root.hasWorldTree;
       if (this.lines.visible && !this.data) this.setLevel(this.level);
       else this._rebuild();
     });
@@ -96,22 +142,22 @@ export class BvhBoxes extends EventTarget {
   async setLevel(level) {
     this.level = level;
     if (!this.sceneId) return;
-    const key = `${this.sceneId}:${level}`;
+    const key = `${this.sceneId}:${this.tree}:${level}`;
     let data = this.cache.get(key);
     if (!data) {
-      data = await bvhBoxes(this.sceneId, level);
+      data = await bvhBoxes(this.sceneId, level, this.tree);
       this.cache.set(key, data);
     }
-    if (key !== `${this.sceneId}:${this.level}`) return; // a newer request won
+    if (key !== `${this.sceneId}:${this.tree}:${this.level}`) return; // a newer request won
     this.data = data;
     this.totalLevels = data.totalLevels;
     this.nodeWidth = data.nodeWidth;
     this._rebuild();
   }
 
-  /** Box numbers (nodes and leaves) the selected ray visited (null: no ray selected). */
-  setVisited(boxes) {
-    this.visited = boxes ? new Set(boxes) : null;
+  /** The segments of the selected ray (null: no ray selected), whose visited boxes "only visited" keeps. */
+  setVisited(segments) {
+    this.segments = segments;
     this._rebuild();
   }
 
@@ -124,9 +170,13 @@ export class BvhBoxes extends EventTarget {
     const data = this.data;
     let result = { positions: new Float32Array(0), colors: new Float32Array(0), boxes: 0, leaves: 0, kept: [] };
     if (data) {
-      const filter = this.onlyVisited ? (i) => this.visited !== null && this.visited.has(data.nodes[i]) : undefined;
+      const visited = this.segments ? new Set(visitedBoxes(this.segments, this.tree)) : null;
+      const filter = this.onlyVisited ? (i) => visited !== null && visited.has(data.nodes[i]) : undefined;
       result = boxEdgePositions(data.bounds, filter, data.leaf);
     }
+    if (data?.toWorld.length === 16) this.lines.matrix.fromArray(data.toWorld);
+    else this.lines.matrix.identity();
+    this.lines.matrixWorldNeedsUpdate = true;
     // The triangles in the leaves shown: those a ray that enters them tests.
     const leafTriangles = result.kept.reduce((n, i) => n + (data.leaf[i] ? data.leafTriangles[i] : 0), 0);
     const geometry = new THREE.BufferGeometry();
@@ -139,7 +189,8 @@ export class BvhBoxes extends EventTarget {
     this.viewer.requestRender();
     this.dispatchEvent(new CustomEvent("change", {
       detail: {
-        level: this.level, totalLevels: this.totalLevels, nodeWidth: this.nodeWidth,
+        level: this.level, totalLevels: this.totalLevels, nodeWidth: this.nodeWidth, tree: this.tree,
+        instanceCount: this.instanceCount, hasWorldTree: this.hasWorldTree,
         shown: result.boxes, shownLeaves: result.leaves, leafTriangles,
         total: data ? data.nodes.length : 0, totalLeaves: data ? data.leaf.filter(Boolean).length : 0,
       },

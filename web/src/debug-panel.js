@@ -4,8 +4,9 @@
 // the ray visited: the nodes whose child boxes it tested and the leaves whose
 // triangles it tested).
 import { debugRay } from "./api.js";
-import { BvhBoxes, visitedBoxes } from "./bvh-boxes.js";
+import { BvhBoxes } from "./bvh-boxes.js";
 import { boxCountText, renderBvhLegend } from "./bvh-legend.js";
+import { BvhTreePicker } from "./bvh-tree-picker.js";
 import { DebugRays, pathStats, renderLegend } from "./debug-rays.js";
 import { RayHover } from "./ray-hover.js";
 
@@ -23,6 +24,7 @@ export class DebugPanel extends EventTarget {
     this.pixel = null;
     this.rays = new DebugRays(viewer);
     this.bvh = new BvhBoxes(viewer);
+    this.trees = new BvhTreePicker(this.bvh, (promise) => this._guard(promise));
     viewer.lod.addOverlay(this.rays.lines, 2);
     viewer.lod.addOverlay(this.bvh.lines, 24);
     this.hover = new RayHover(viewer, this.rays, $("ray-tooltip"));
@@ -84,6 +86,7 @@ export class DebugPanel extends EventTarget {
       count.dataset.boxes = String(shown);
       count.dataset.leaves = String(shownLeaves);
       renderBvhLegend(legend, nodeWidth);
+      this.trees.update(e.detail);
     });
     $("rays-show").addEventListener("change", (e) => this.rays.setVisible(e.target.checked));
     $("rays-clear").addEventListener("click", () => this.clear());
@@ -118,6 +121,7 @@ export class DebugPanel extends EventTarget {
     this.hover.reset();
     this.rays.show(null);
     this.bvh.setVisited(null);
+    this.trees.showEntered(null);
     this.stats.replaceChildren();
     renderLegend(this.legend);
     this.status.dataset.kind = "";
@@ -154,11 +158,13 @@ export class DebugPanel extends EventTarget {
     const path = this.rays.path;
     if (!path) {
       this.bvh.setVisited(null);
+      this.trees.showEntered(null);
       return;
     }
     const pinned = this.hover.pinned;
     const segments = pinned >= 0 ? [path.segments[pinned]] : path.segments;
-    this.bvh.setVisited(visitedBoxes(segments));
+    this.bvh.setVisited(segments);
+    this.trees.showEntered(segments);
   }
 
   _showStats(path) {

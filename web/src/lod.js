@@ -118,6 +118,7 @@ export class InteractiveLod {
     thin.name = `${lines.name} (thinned while moving)`;
     thin.visible = false;
     thin.frustumCulled = false;
+    thin.matrixAutoUpdate = lines.matrixAutoUpdate;
     thin.renderOrder = lines.renderOrder;
     lines.parent.add(thin);
     this.overlays.push({ lines, group, thin, source: null, stride: 1 });
@@ -144,6 +145,12 @@ export class InteractiveLod {
     }
     lines.userData.thinned = use;
     thin.visible = use;
+    // The thinned copy stands where the lines do (an instance tree's boxes have a transform).
+    thin.matrixAutoUpdate = lines.matrixAutoUpdate;
+    if (use) {
+      thin.matrix.copy(lines.matrix);
+      thin.matrixWorldNeedsUpdate = true;
+    }
     if (use) lines.layers.disable(0);
     else lines.layers.enable(0);
   }

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <stdexcept>
+#include <string>
 
 #include "bvh/binned_sah_builder.h"
 #include "bvh/wide_collapse.h"
@@ -155,28 +156,42 @@ Accelerator::Accelerator(const Scene& scene, unsigned threads, SimdPath path)
     stats_.sah_cost = walked.sah_cost(kWideNodeCost, kBlockCost);
 }
 
-Accelerator::LevelBoxes Accelerator::boxes(int level) const {
+Accelerator::LevelBoxes Accelerator::boxes(int level, uint32_t tree) const {
     const Scene& scene = *data_.scene;
-    const auto tree_triangles = [&](uint32_t entry) -> uint32_t {
+    const auto entry_triangles = [&](uint32_t entry) -> uint32_t {
         if (entry == AccelScene::kWorldEntry) return uint32_t(scene.world_triangles());
         return scene.meshes[scene.instances[entry].mesh].triangle_count;
     };
-    // A world tree's leaf: the triangles in its blocks; a top-level leaf: those its entries place.
+    LevelBoxes boxes;
+    const AccelData* triangles = nullptr;  // the tree's blocks, unless it is the top level
+    if (tree == kTopTree) {
+        if (!data_.instanced()) triangles = &data_.world;
+    } else if (tree == AccelScene::kWorldEntry) {
+        if (!has_world_entry()) throw std::invalid_argument("tree: the scene has no triangles placed once beside its instances");
+        triangles = &data_.world;
+    } else {
+        if (tree >= scene.instances.size())
+            throw std::invalid_argument("tree: instance " + std::to_string(tree) + " does not exist; the scene has " +
+                                        std::to_string(scene.instances.size()));
+        triangles = &data_.tree_of(tree);
+        boxes.to_world = scene.instances[tree].to_world;
+    }
+    // A triangle tree's leaf: the triangles in its blocks; a top-level leaf: those its entries place.
     const auto leaf_triangles = [&](bvh::ChildRef leaf) {
-        uint32_t triangles = 0;
+        uint32_t count = 0;
         for (uint32_t b = leaf.first_block(); b < leaf.first_block() + leaf.block_count(); ++b)
             for (uint32_t lane = 0; lane < bvh::kBlockWidth; ++lane) {
-                if (!data_.instanced()) {
-                    triangles += data_.world.blocks[b].lane_used(lane);
+                if (triangles) {
+                    count += triangles->blocks[b].lane_used(lane);
                 } else {
                     const uint32_t entry = data_.top.prim_ids[size_t(b) * bvh::kBlockWidth + lane];
-                    if (entry != bvh::kNoPrim) triangles += tree_triangles(entry);
+                    if (entry != bvh::kNoPrim) count += entry_triangles(entry);
                 }
             }
-        return triangles;
+        return count;
     };
-    LevelBoxes boxes;
-    const bvh::WideBvh& walked = data_.instanced() ? data_.top : data_.world.bvh;
+    const bvh::WideBvh& walked = triangles ? triangles->bvh : data_.top;
+    boxes.depth = walked.depth;
     for (const bvh::WideBvh::Box& box : walked.boxes(leaf_triangles)) {
         const bool wanted = level < 0 ? box.leaf : box.level == uint32_t(level);
         if (!wanted) continue;

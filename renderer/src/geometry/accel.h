@@ -92,8 +92,18 @@ class Accelerator {
         std::vector<Bounds3> bounds;
         std::vector<uint32_t> triangles;  // triangles under each box
         std::vector<uint8_t> leaf;        // 1 where the box is a leaf's
+        uint32_t depth = 0;               // of the tree walked: levels below its root
+        Affine to_world;                  // from the tree's space: an instance's transform
     };
-    LevelBoxes boxes(int level) const;
+    // The tree to walk: the top level (a scene's only tree when it has no
+    // instances), or one that a top-level entry leads to (EnteredTree::entry:
+    // an instance number, or AccelScene::kWorldEntry for the triangles placed
+    // once). Throws std::invalid_argument for an entry the scene lacks.
+    static constexpr uint32_t kTopTree = ~0u;
+    LevelBoxes boxes(int level, uint32_t tree = kTopTree) const;
+    // Instances the top level places, and whether it has a world-tree entry.
+    size_t instance_count() const { return data_.scene->instances.size(); }
+    bool has_world_entry() const { return data_.instanced() && !data_.world.bvh.empty(); }
 
   private:
     AccelScene data_;

@@ -68,11 +68,25 @@ struct RecordingObserver {
     void test_triangles(uint32_t count) { record.triangles_tested += count; }
 };
 
-// Inside an instance: the nodes and triangles count, but the box numbers,
-// which are the top-level tree's, are not the instance tree's.
-inline SilentObserver nested(SilentObserver o) { return o; }
-inline CountingObserver nested(CountingObserver o) { return o; }
-inline CountingObserver nested(RecordingObserver o) { return {o.record}; }
+// Inside the tree a top-level entry leads to: the nodes and triangles count
+// with the rest, and a record lists the boxes, in that tree's numbering, apart.
+struct TreeRecordingObserver {
+    TraversalRecord& record;
+    size_t tree;  // into record.entered, which may grow while this lives
+    void visit_node(uint32_t node) {
+        ++record.nodes_visited;
+        record.entered[tree].visited_nodes.push_back(node);
+    }
+    void visit_leaf(uint32_t leaf) { record.entered[tree].visited_leaves.push_back(leaf); }
+    void test_triangles(uint32_t count) { record.triangles_tested += count; }
+};
+
+inline SilentObserver nested(SilentObserver o, uint32_t) { return o; }
+inline CountingObserver nested(CountingObserver o, uint32_t) { return o; }
+inline TreeRecordingObserver nested(RecordingObserver o, uint32_t entry) {
+    o.record.entered.push_back({entry, {}, {}});
+    return {o.record, o.record.entered.size() - 1};
+}
 
 // The query kernels of one SIMD path (accel_kernels.inl). intersect() finds
 // the closest hit; visibility() the light passing along the ray.

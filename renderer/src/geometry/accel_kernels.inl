@@ -196,7 +196,7 @@ bool intersect_with(const AccelScene& accel, const Ray& ray, Hit& hit, Observer 
             for_entries(accel, first_block, block_count, [&](uint32_t entry) {
                 Hit h;
                 const LocalRay local = entry_ray(accel, entry, clipped, t_max);
-                if (closest_in(accel.tree_of(entry), local.ray, h, nested(observer))) {
+                if (closest_in(accel.tree_of(entry), local.ray, h, nested(observer, entry))) {
                     h.t /= local.t_scale;
                     if (!(h.t < t_max)) return false;  // the rounding of the scale
                     t_max = h.t;
@@ -229,7 +229,7 @@ float visibility_with(const AccelScene& accel, const Ray& ray, Observer observer
             [&](uint32_t first_block, uint32_t block_count, float& t_max) {
                 return for_entries(accel, first_block, block_count, [&](uint32_t entry) {
                     return any_in(accel.tree_of(entry), entry_ray(accel, entry, ray, t_max).ray, visibility,
-                                  nested(observer));
+                                  nested(observer, entry));
                 });
             },
             [](bvh::ChildRef) {}, observer);

@@ -93,6 +93,14 @@ struct DebugRecorder {
         segment.mutable_visited_nodes()->Add(record.visited_nodes.begin(), record.visited_nodes.end());
         segment.mutable_visited_leaves()->Add(record.visited_leaves.begin(), record.visited_leaves.end());
         segment.set_triangles_tested(record.triangles_tested);
+        for (const EnteredTree& visit : record.entered) {
+            rt::TreeVisit& tree = *segment.add_trees();
+            const bool world = visit.entry == AccelScene::kWorldEntry;
+            tree.set_tree(world ? BVH_TREE_WORLD : BVH_TREE_INSTANCE);
+            if (!world) tree.set_instance(visit.entry);
+            tree.mutable_visited_nodes()->Add(visit.visited_nodes.begin(), visit.visited_nodes.end());
+            tree.mutable_visited_leaves()->Add(visit.visited_leaves.begin(), visit.visited_leaves.end());
+        }
         return segment;
     }
 

@@ -39,15 +39,20 @@ async def debug_ray(stored: StoredScene, body: bytes) -> debug_pb2.DebugPath:
     return await asyncio.to_thread(_debug_path, stored, body)
 
 
-def _bvh_boxes(stored: StoredScene, level: int) -> debug_pb2.BvhBoxes:
-    return debug_pb2.BvhBoxes.FromString(stored.load().bvh_boxes(level))
+def _bvh_boxes(stored: StoredScene, level: int, tree: str) -> debug_pb2.BvhBoxes:
+    try:
+        return debug_pb2.BvhBoxes.FromString(stored.load().bvh_boxes(level, tree))
+    except ValueError as e:
+        raise Invalid(str(e)) from None
 
 
-async def bvh_boxes(stored: StoredScene, level: int, leaves: bool) -> debug_pb2.BvhBoxes:
-    """The boxes of one level of the wide BVH the renderer traverses (0 is the
-    root; a node's up to node_width children, nodes and leaves, one level
-    down), or every leaf box. Raises Invalid for a level past the deepest."""
-    boxes = await asyncio.to_thread(_bvh_boxes, stored, -1 if leaves else level)
+async def bvh_boxes(stored: StoredScene, level: int, leaves: bool, tree: str = "top") -> debug_pb2.BvhBoxes:
+    """The boxes of one level of a tree of the wide BVH the renderer traverses
+    (0 is the root; a node's up to node_width children, nodes and leaves, one
+    level down), or every leaf box. `tree` is "top", "world" or an instance
+    number (rtcore's Scene.bvh_boxes). Raises Invalid for a tree the scene
+    lacks or a level past the deepest."""
+    boxes = await asyncio.to_thread(_bvh_boxes, stored, -1 if leaves else level, tree)
     if not leaves and level >= boxes.total_levels:
         raise Invalid(f"level: {level} is past the deepest level {boxes.total_levels - 1}")
     return boxes

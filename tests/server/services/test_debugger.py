@@ -35,8 +35,10 @@ class Recording:
         self.threads["load"] = threading.get_ident()
         return self
 
-    def bvh_boxes(self, level):
+    def bvh_boxes(self, level, tree):
         self.threads["bvh_boxes"] = threading.get_ident()
+        if tree not in ("top", "0"):
+            raise ValueError(f"tree: '{tree}' is not top, world or an instance number below 1")
         return debug_pb2.BvhBoxes(level=level, total_levels=3).SerializeToString()
 
     def debug_path(self, camera, settings, x, y):
@@ -66,6 +68,13 @@ def test_all_leaves_ask_the_renderer_for_level_minus_one():
 def test_a_level_past_the_deepest_is_invalid():
     with pytest.raises(Invalid, match="level: 3 is past the deepest level 2"):
         on_a_loop(debugger.bvh_boxes, Recording(), 3, False)
+
+
+def test_a_tree_the_renderer_refuses_is_invalid():
+    with pytest.raises(Invalid, match="tree: 'world' is not top"):
+        on_a_loop(debugger.bvh_boxes, Recording(), 0, False, "world")
+    boxes, _ = on_a_loop(debugger.bvh_boxes, Recording(), 0, False, "0")
+    assert boxes.total_levels == 3
 
 
 def test_debug_ray_traces_off_the_event_loop_with_the_scenes_camera(cornell):

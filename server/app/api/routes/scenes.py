@@ -62,5 +62,9 @@ async def debug_ray(scene_id: str, request: Request, store: SceneStore = Depends
 async def bvh_boxes(scene_id: str,
                     level: int = Query(0, ge=0, description="0 is the root; a node's children (nodes, leaves) below it"),
                     leaves: bool = Query(False, description="all leaf boxes instead of one level"),
+                    tree: str = Query("top", max_length=10, description=(
+                        "top: the top level over the instances (the only tree of a scene without any); "
+                        "world: the tree of the triangles placed once; or an instance number: its mesh's tree, "
+                        "with the instance's transform as to_world")),
                     store: SceneStore = Depends(scenes)):
-    return proto_json(await debugger.bvh_boxes(scene_or_404(store, scene_id), level, leaves))
+    return proto_json(await debugger.bvh_boxes(scene_or_404(store, scene_id), level, leaves, tree))
