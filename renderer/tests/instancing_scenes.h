@@ -36,7 +36,8 @@ inline Affine random_placement(std::mt19937& rng, float spread, bool mirrored) {
 }
 
 // The same scene with every instance's triangles copied into world space
-// (and the shared meshes dropped), normals through the normal matrix.
+// (and the shared meshes dropped), normals through the normal matrix; in a
+// moving scene each copied vertex at close is where the instance then puts it.
 inline Scene flattened(const Scene& scene) {
     Scene flat = scene;
     flat.meshes.clear();
@@ -51,7 +52,12 @@ inline Scene flattened(const Scene& scene) {
                 const uint32_t v = scene.triangles[t][k];
                 corners[k] = uint32_t(flat.positions.size());
                 flat.positions.push_back(instance.to_world.point(scene.positions[v]));
-                flat.normals.push_back(glm::normalize(instance.normal_to_world * scene.normals[v]));
+                flat.normals.push_back(glm::normalize(instance.normal_to_world() * scene.normals[v]));
+                if (scene.moving()) {
+                    const Instance close = Instance::make(instance.mesh, instance.to_world_close);
+                    flat.positions_close.push_back(close.to_world.point(scene.positions_close[v]));
+                    flat.normals_close.push_back(glm::normalize(close.normal_to_world() * scene.normals_close[v]));
+                }
                 if (!scene.texcoords.empty()) flat.texcoords.push_back(scene.texcoords[v]);
             }
             flat.triangles.push_back(corners);
@@ -71,6 +77,26 @@ inline Scene instanced_soup(uint32_t count, uint32_t seed) {
     std::mt19937 rng(seed);
     for (uint32_t i = 0; i < count; ++i)
         scene.instances.push_back(Instance::make(i % 2 ? ring : sphere, random_placement(rng, 9.0f, i % 5 == 4)));
+    return scene;
+}
+
+// instanced_soup whose instances move while the shutter is open (each
+// third one stands still): shifted by up to `shift`, turned a little more and
+// scaled; the world-space soup stands still, so only the top level moves.
+inline Scene moving_instanced_soup(uint32_t count, uint32_t seed, float shift) {
+    Scene scene = instanced_soup(count, seed);
+    scene.positions_close = scene.positions;
+    scene.normals_close = scene.normals;
+    std::mt19937 rng(seed + 1);
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+    for (uint32_t i = 0; i < scene.instances.size(); ++i) {
+        if (i % 3 == 2) continue;
+        const Instance& open = scene.instances[i];
+        const glm::mat3 turn = glm::mat3(glm::rotate(glm::mat4(1.0f), 0.4f * unit(rng), vec3(0.0f, 1.0f, 0.0f)));
+        const Affine close{turn * open.to_world.linear * (1.0f + 0.2f * unit(rng)),
+                           open.to_world.translation + shift * vec3(unit(rng), unit(rng), unit(rng))};
+        scene.instances[i] = Instance::make(open.mesh, open.to_world, close);
+    }
     return scene;
 }
 

@@ -1,7 +1,8 @@
-// glTF nodes that share a mesh: one stored copy and an instance per still
-// node, rays meeting the same surfaces as the file with a copy per node, the
-// copies kept where a node flattens the mesh, degenerate triangles
-// dropped inside shared meshes, and model.glb keeping the sharing.
+// glTF nodes that share a mesh: one stored copy and an instance per node
+// (moving ones too), rays meeting the same surfaces as the file with a copy
+// per node at every time, the copies kept where a node flattens the mesh
+// (also for a moment of its motion), degenerate triangles dropped inside
+// shared meshes, and model.glb keeping the sharing.
 #include <cstring>
 
 #include <gtest/gtest.h>
@@ -78,6 +79,53 @@ TEST(LoaderInstancing, AFlatteningNodeKeepsItsOwnCopy) {
     const Scene single = load_bytes(once.glb(), "once.glb");
     EXPECT_TRUE(single.meshes.empty()) << "a mesh placed once after all is copied like any";
     EXPECT_EQ(single.triangles.size(), 16u);
+}
+
+// Nodes 1 and 2 move (a sidecar motion each); with copies, the same motions.
+Scene moving_scene(const TempDir& dir, bool copies, const std::string& node2_close) {
+    GltfDoc doc = shared_doc(4, copies);
+    for (int k = 0; k < 4; ++k) doc.json["nodes"][k]["name"] = "n" + std::to_string(k);
+    dir.write("s.rt.json", R"({"motions": [{"node": "n1", "translation": [3, 1, -1], "rotation": [0, 0.3, 0, 0.9539392]},
+                                          {"node": "n2", )" + node2_close + "}]}");
+    const Bytes glb = doc.glb();
+    return load_scene(dir.write("s.glb", glb));
+}
+
+TEST(LoaderInstancing, MovingNodesAreMovingInstancesThatMeetWhatTheCopiesMeet) {
+    TempDir a, b;
+    const std::string slide = R"("translation": [6, 0.5, -2])";
+    const Scene shared = moving_scene(a, false, slide), copies = moving_scene(b, true, slide);
+    ASSERT_EQ(shared.instances.size(), 4u);
+    EXPECT_TRUE(shared.moving() && copies.moving());
+    EXPECT_FALSE(shared.instances[0].moving);
+    EXPECT_TRUE(shared.instances[1].moving && shared.instances[2].moving);
+    const Accelerator accel(shared), flat(copies);
+    std::vector<Ray> rays = random_rays(copies, 4000, 9);
+    size_t hits = 0, moving_hits = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+        Ray& ray = rays[i];
+        ray.time = float(i % 11) / 10.0f;
+        Hit ha, hb;
+        const bool found = accel.intersect(ray, ha);
+        ASSERT_EQ(found, flat.intersect(ray, hb)) << "ray " << i << " at time " << ray.time;
+        if (!found) continue;
+        ++hits;
+        moving_hits += shared.instances[ha.instance].moving;
+        EXPECT_NEAR(ha.t, hb.t, 1e-4f * hb.t);
+    }
+    EXPECT_GT(moving_hits, 300u) << "of " << hits;
+}
+
+TEST(LoaderInstancing, AMotionThatFlattensTheMeshOnTheWayKeepsItsOwnCopy) {
+    TempDir dir;
+    // Node 2's scale goes from 0.7 to -0.7 in y: flat halfway, so no inverse then.
+    const Scene scene = moving_scene(dir, false, R"("translation": [6, 0.5, -1], "scale": [1.4, -0.7, 1])");
+    EXPECT_EQ(scene.instances.size(), 3u);
+    EXPECT_EQ(scene.world_triangles(), 8u) << "node 2's copy, moving in world space";
+    // A half turn more than at open, blended straight, flattens too (the blend of R(a) and R(a + 180°) is singular at 0.5).
+    TempDir turn;
+    const Scene half = moving_scene(turn, false, R"("translation": [6, 0.5, -1], "rotation": [0, 0.9210610, 0, -0.3894183])");
+    EXPECT_EQ(half.instances.size(), 3u);
 }
 
 TEST(LoaderInstancing, ModelGlbKeepsTheSharing) {

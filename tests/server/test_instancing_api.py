@@ -37,6 +37,19 @@ def render(client, scene_id):
     return render_color(client, {"scene_id": scene_id, "camera": CAMERA, "settings": {"width": W, "height": H}})[1]
 
 
+def test_moving_instances_render_what_moving_copies_render(client):
+    moving = tuple(range(0, NODES, 2))
+    ours = upload(client, "moving-shared.gltf", instanced_gltf(NODES, moving=moving))
+    theirs = upload(client, "moving-copies.gltf", instanced_gltf(NODES, copies=True, moving=moving))
+    settings = {"width": W, "height": H, "samples_per_pixel": 16}
+    a = render_color(client, {"scene_id": ours["id"], "camera": CAMERA, "settings": settings})[1]
+    b = render_color(client, {"scene_id": theirs["id"], "camera": CAMERA, "settings": settings})[1]
+    still = render(client, upload(client, "still.gltf", instanced_gltf(NODES))["id"])
+    assert np.abs(a - still).mean() > 5e-3, "the moving nodes blur"
+    assert np.abs(a - b).mean() < 1e-3, np.abs(a - b).mean()
+    assert (np.abs(a - b) > 0.02).mean() < 0.002
+
+
 def test_scene_info_counts_every_placed_triangle(shared, copies):
     assert shared["triangle_count"] == copies["triangle_count"] == 8 * NODES
     np.testing.assert_allclose(shared["bounds_min"], copies["bounds_min"], atol=0.5)

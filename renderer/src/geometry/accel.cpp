@@ -30,19 +30,35 @@ const AccelKernels& kernels_for(SimdPath path) {
 
 // One tree over scene.triangles[first, first + count), in whatever space
 // they are in; adds its sizes to `stats`.
+// Some vertex of those triangles moves while the shutter is open.
+bool triangles_move(const Scene& scene, size_t first, size_t count) {
+    if (!scene.moving()) return false;
+    for (size_t i = first; i < first + count; ++i)
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t v = scene.triangles[i][k];
+            if (scene.positions[v] != scene.positions_close[v]) return true;
+        }
+    return false;
+}
+
+// One tree over scene.triangles[first, first + count), in whatever space
+// they are in; adds its sizes to `stats`.
 AccelData build_tree(const Scene& scene, size_t first, size_t count, unsigned threads, AccelStats& stats) {
     AccelData data;
     data.scene = &scene;
-    // A moving scene's tree is built over the boxes that hold each triangle
-    // all the shutter long, then given its boxes at open and close.
+    // A tree over moving triangles is built over the boxes that hold each
+    // triangle all the shutter long, then given its boxes at open and close.
+    // Triangles that stand still in a moving scene (a shared mesh, which its
+    // instances move) get a still tree.
+    const bool moving = triangles_move(scene, first, count);
     std::vector<Bounds3> triangle_bounds(count), open_bounds, close_bounds;
     std::vector<vec3> centroids(count);
-    if (scene.moving()) open_bounds.resize(count), close_bounds.resize(count);
+    if (moving) open_bounds.resize(count), close_bounds.resize(count);
     for (size_t i = 0; i < count; ++i) {
         const uvec3 tri = scene.triangles[first + i];
         Bounds3 b;
         for (int k = 0; k < 3; ++k) b.extend(scene.positions[tri[k]]);
-        if (scene.moving()) {
+        if (moving) {
             open_bounds[i] = b;
             for (int k = 0; k < 3; ++k) close_bounds[i].extend(scene.positions_close[tri[k]]);
             b.extend(close_bounds[i]);
@@ -55,7 +71,7 @@ AccelData build_tree(const Scene& scene, size_t first, size_t count, unsigned th
     options.threads = threads;
     options.leaf_block_size = bvh::kBlockWidth;
     data.bvh = bvh::collapse_to_wide(bvh::build_binned_sah(triangle_bounds, centroids, options), triangle_bounds, kLeafMergeLimit);
-    if (scene.moving()) bvh::refit_motion(data.bvh, open_bounds, close_bounds);
+    if (moving) bvh::refit_motion(data.bvh, open_bounds, close_bounds);
     // The blocks hold scene triangle numbers.
     for (uint32_t& id : data.bvh.prim_ids)
         if (id != bvh::kNoPrim) id += uint32_t(first);
@@ -68,7 +84,7 @@ AccelData build_tree(const Scene& scene, size_t first, size_t count, unsigned th
         for (size_t i = first; i < first + count; ++i)
             alpha[i] = scene.materials[scene.triangle_materials[i]].alpha_mode != AlphaMode::Opaque;
     }
-    data.moving = scene.moving();
+    data.moving = moving;
     data.blocks = make_triangle_blocks(data.bvh.prim_ids, scene.positions, scene.triangles, alpha);
     if (data.moving)
         data.blocks_motion = make_motion_blocks(data.blocks, data.bvh.prim_ids, scene.positions_close, scene.triangles);
@@ -82,39 +98,57 @@ AccelData build_tree(const Scene& scene, size_t first, size_t count, unsigned th
     return data;
 }
 
-// A tree's root box over the whole shutter interval.
-Bounds3 root_bounds(const bvh::WideBvh& tree) {
+// A tree's root box at shutter open, or close (for a still tree the same).
+Bounds3 root_bounds(const bvh::WideBvh& tree, bool at_close) {
     Bounds3 b;
     if (tree.empty()) return b;
-    for (uint32_t i = 0; i < bvh::kWideWidth; ++i)
-        if (!tree.nodes[0].child[i].empty()) b.extend(tree.child_bounds(0, i));
+    for (uint32_t i = 0; i < bvh::kWideWidth; ++i) {
+        if (tree.nodes[0].child[i].empty()) continue;
+        b.extend(at_close && !tree.close.empty() ? tree.close[0].child_bounds(i) : tree.nodes[0].child_bounds(i));
+    }
     return b;
 }
 
 // The top-level tree over the instances' world boxes and the world tree's:
-// one entry per leaf, since entering one costs a whole traversal.
+// one entry per leaf, since entering one costs a whole traversal. When some
+// entry moves, its boxes at open and close are those of its content then (a
+// moving instance's mesh box under its transforms at open and close, which
+// hold it blended between), and the tree keeps both, as a tree over moving
+// triangles does.
 bvh::WideBvh build_top(const AccelScene& accel, unsigned threads) {
     const Scene& scene = *accel.scene;
     std::vector<uint32_t> entries;
-    std::vector<Bounds3> boxes;
+    std::vector<Bounds3> open, close;
     std::vector<Bounds3> local(accel.meshes.size());
-    for (size_t m = 0; m < accel.meshes.size(); ++m) local[m] = root_bounds(accel.meshes[m].bvh);
+    for (size_t m = 0; m < accel.meshes.size(); ++m) local[m] = root_bounds(accel.meshes[m].bvh, false);
+    bool moving = false;
     if (!accel.world.bvh.empty()) {
         entries.push_back(AccelScene::kWorldEntry);
-        boxes.push_back(root_bounds(accel.world.bvh));
+        open.push_back(root_bounds(accel.world.bvh, false));
+        close.push_back(root_bounds(accel.world.bvh, true));
+        moving = accel.world.moving;
     }
     for (uint32_t i = 0; i < scene.instances.size(); ++i) {
-        const Bounds3& b = local[scene.instances[i].mesh];
+        const Instance& instance = scene.instances[i];
+        const Bounds3& b = local[instance.mesh];
         if (b.empty()) continue;
         entries.push_back(i);
-        boxes.push_back(scene.instances[i].to_world.box(b));
+        open.push_back(instance.to_world.box(b));
+        close.push_back(instance.to_world_close.box(b));
+        moving = moving || instance.moving;
     }
-    std::vector<vec3> centroids(boxes.size());
-    for (size_t i = 0; i < boxes.size(); ++i) centroids[i] = boxes[i].center();
+    std::vector<Bounds3> boxes(open.size());
+    std::vector<vec3> centroids(open.size());
+    for (size_t i = 0; i < boxes.size(); ++i) {
+        boxes[i] = open[i];
+        boxes[i].extend(close[i]);
+        centroids[i] = boxes[i].center();
+    }
     bvh::BuildOptions options;
     options.max_leaf_size = 1;
     options.threads = threads;
     bvh::WideBvh top = bvh::collapse_to_wide(bvh::build_binned_sah(boxes, centroids, options), boxes, 1);
+    if (moving) bvh::refit_motion(top, open, close);
     for (uint32_t& id : top.prim_ids)
         if (id != bvh::kNoPrim) id = entries[id];
     return top;
@@ -137,8 +171,12 @@ Accelerator::Accelerator(const Scene& scene, unsigned threads, SimdPath path)
         next += mesh.triangle_count;
     }
     if (next != scene.triangles.size()) throw std::invalid_argument("scene: triangles after the last shared mesh");
-    for (const Instance& instance : scene.instances)
+    for (const Instance& instance : scene.instances) {
         if (instance.mesh >= scene.meshes.size()) throw std::invalid_argument("scene: an instance of a mesh that does not exist");
+        // Rays get times only in a moving scene (Scene::moving).
+        if (instance.moving && !scene.moving())
+            throw std::invalid_argument("scene: a moving instance in a scene without positions at shutter close");
+    }
 
     data_.world = build_tree(scene, 0, scene.world_triangles(), threads, stats_);
     for (const SharedMesh& mesh : scene.meshes)

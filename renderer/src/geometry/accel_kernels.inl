@@ -171,25 +171,10 @@ template <typename Visit>
     return false;
 }
 
-template <typename Observer>
-bool intersect_with(const AccelScene& accel, const Ray& ray, Hit& hit, Observer observer) {
-    const Scene& scene = *accel.scene;
-    hit = Hit{};
-    // Spheres first: their hit shortens the ray the trees have to follow.
-    Ray clipped = ray;
-    for (size_t s = 0; s < scene.spheres.size(); ++s) {
-        float t;
-        if (intersect_sphere(clipped, scene.spheres[s], t)) {
-            clipped.t_max = t;
-            hit = {t, uint32_t(scene.triangles.size() + s), 0.0f, 0.0f};
-        }
-    }
-    if (!accel.instanced()) {
-        closest_in(accel.world, clipped, hit, observer);
-        return hit.found();
-    }
-    Hit nearest;
-    const bool found = traverse_wide<bvh::Query::closest_hit, false>(
+// The closest hit among the trees the top level leads to; kMoving when some entry moves.
+template <bool kMoving, typename Observer>
+bool closest_through_top(const AccelScene& accel, const Ray& clipped, Hit& nearest, Observer observer) {
+    return traverse_wide<bvh::Query::closest_hit, kMoving>(
         accel.top, clipped,
         [&](uint32_t first_block, uint32_t block_count, float& t_max) {
             bool found_here = false;
@@ -209,8 +194,44 @@ bool intersect_with(const AccelScene& accel, const Ray& ray, Hit& hit, Observer 
             return found_here;
         },
         [](bvh::ChildRef) {}, observer);
+}
+
+template <typename Observer>
+bool intersect_with(const AccelScene& accel, const Ray& ray, Hit& hit, Observer observer) {
+    const Scene& scene = *accel.scene;
+    hit = Hit{};
+    // Spheres first: their hit shortens the ray the trees have to follow.
+    Ray clipped = ray;
+    for (size_t s = 0; s < scene.spheres.size(); ++s) {
+        float t;
+        if (intersect_sphere(clipped, scene.spheres[s], t)) {
+            clipped.t_max = t;
+            hit = {t, uint32_t(scene.triangles.size() + s), 0.0f, 0.0f};
+        }
+    }
+    if (!accel.instanced()) {
+        closest_in(accel.world, clipped, hit, observer);
+        return hit.found();
+    }
+    Hit nearest;
+    const bool found = accel.top.close.empty() ? closest_through_top<false>(accel, clipped, nearest, observer)
+                                               : closest_through_top<true>(accel, clipped, nearest, observer);
     if (found) hit = nearest;
     return hit.found();
+}
+
+// Whether something the top level leads to stops the ray; kMoving when some entry moves.
+template <bool kMoving, typename Observer>
+bool any_through_top(const AccelScene& accel, const Ray& ray, float& visibility, Observer observer) {
+    return traverse_wide<bvh::Query::any_hit, kMoving>(
+        accel.top, ray,
+        [&](uint32_t first_block, uint32_t block_count, float& t_max) {
+            return for_entries(accel, first_block, block_count, [&](uint32_t entry) {
+                return any_in(accel.tree_of(entry), entry_ray(accel, entry, ray, t_max).ray, visibility,
+                              nested(observer, entry));
+            });
+        },
+        [](bvh::ChildRef) {}, observer);
 }
 
 template <typename Observer>
@@ -221,19 +242,12 @@ float visibility_with(const AccelScene& accel, const Ray& ray, Observer observer
     }
     float visibility = 1.0f;
     bool stopped;
-    if (!accel.instanced()) {
+    if (!accel.instanced())
         stopped = any_in(accel.world, ray, visibility, observer);
-    } else {
-        stopped = traverse_wide<bvh::Query::any_hit, false>(
-            accel.top, ray,
-            [&](uint32_t first_block, uint32_t block_count, float& t_max) {
-                return for_entries(accel, first_block, block_count, [&](uint32_t entry) {
-                    return any_in(accel.tree_of(entry), entry_ray(accel, entry, ray, t_max).ray, visibility,
-                                  nested(observer, entry));
-                });
-            },
-            [](bvh::ChildRef) {}, observer);
-    }
+    else if (accel.top.close.empty())
+        stopped = any_through_top<false>(accel, ray, visibility, observer);
+    else
+        stopped = any_through_top<true>(accel, ray, visibility, observer);
     return stopped ? 0.0f : visibility;
 }
 

@@ -64,25 +64,50 @@ struct LocalRay {
     float t_scale;
 };
 
+// A moving instance's transform is the straight blend of those at shutter
+// open and close (Embree's linear instance motion): each placed vertex then
+// moves in a straight line, so the top-level boxes at open and close,
+// blended, hold the instance at every time.
 struct Instance {
     uint32_t mesh = 0;  // into Scene::meshes
-    Affine to_world;
-    Affine to_local;           // to_world's inverse
-    glm::mat3 normal_to_world;  // the inverse transpose of to_world.linear
+    Affine to_world;            // at shutter open, and all the shutter long unless `moving`
+    Affine to_local;            // to_world's inverse
+    Affine to_world_close;      // at shutter close
+    bool moving = false;
+
+    // The instance standing still where it is at `time`.
+    Instance at(float time) const {
+        if (!moving) return *this;
+        const Affine blend{to_world.linear + time * (to_world_close.linear - to_world.linear),
+                           to_world.translation + time * (to_world_close.translation - to_world.translation)};
+        return make(mesh, blend);
+    }
+
+    // The inverse transpose of to_world.linear, which takes normals along.
+    glm::mat3 normal_to_world() const { return glm::transpose(to_local.linear); }
 
     LocalRay local_ray(const Ray& world, float t_max) const {
+        if (moving) return at(world.time).local_ray(world, t_max);
         const vec3 direction = to_local.vector(world.direction);
         const float length = glm::length(direction);
         return {Ray{to_local.point(world.origin), direction / length, t_max * length, world.time}, length};
     }
 
-    // Only for an invertible transform (the loader checks it).
+    // Only for invertible transforms (the loader checks them), at open and
+    // (for a moving instance) close and between: a blend of two invertible
+    // maps can still flatten, which the loader refuses too.
     static Instance make(uint32_t mesh, const Affine& to_world) {
         Instance i;
         i.mesh = mesh;
         i.to_world = to_world;
         i.to_local = to_world.inverse();
-        i.normal_to_world = glm::transpose(i.to_local.linear);
+        i.to_world_close = to_world;
+        return i;
+    }
+    static Instance make(uint32_t mesh, const Affine& open, const Affine& close) {
+        Instance i = make(mesh, open);
+        i.to_world_close = close;
+        i.moving = open.linear != close.linear || open.translation != close.translation;
         return i;
     }
 };

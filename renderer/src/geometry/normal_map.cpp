@@ -22,7 +22,7 @@ vec3 bend_normal(vec3 n, glm::vec4 tangent, vec3 texel, float scale) {
     return try_normalize(*t * (m.x * scale) + b * (m.y * scale) + n * m.z).value_or(n);
 }
 
-glm::vec4 tangent_at(const Scene& scene, const Hit& hit) {
+glm::vec4 tangent_at(const Scene& scene, const Hit& hit, float time) {
     if (scene.tangents.empty() || hit.primitive >= scene.triangles.size()) return glm::vec4(0.0f);
     const uvec3 tri = scene.triangles[hit.primitive];
     const glm::vec4 t0 = scene.tangents[tri.x], t1 = scene.tangents[tri.y], t2 = scene.tangents[tri.z];
@@ -32,14 +32,16 @@ glm::vec4 tangent_at(const Scene& scene, const Hit& hit) {
     const Instance* instance = scene.instance_of(hit.instance);
     if (!instance) return glm::vec4(vec3(t), w);
     // A tangent goes with the vertices (the linear part, as the loader places
-    // them); a mirroring instance flips the bitangent, so w too.
-    const bool mirrored = glm::determinant(instance->to_world.linear) < 0.0f;
-    return glm::vec4(instance->to_world.vector(vec3(t)), mirrored ? -w : w);
+    // them); a mirroring instance flips the bitangent, so w too. A moving
+    // instance mirrors all the shutter long or never (the loader's check).
+    const glm::mat3 linear = instance->moving ? instance->at(time).to_world.linear : instance->to_world.linear;
+    const bool mirrored = glm::determinant(linear) < 0.0f;
+    return glm::vec4(linear * vec3(t), mirrored ? -w : w);
 }
 
 void apply_normal_map(const Scene& scene, const Material& m, const Hit& hit, vec3 authored, vec3 wo,
                       SurfaceHit& s) {
-    const glm::vec4 tangent = tangent_at(scene, hit);
+    const glm::vec4 tangent = tangent_at(scene, hit, s.time);
     if (tangent.w == 0.0f) return;
     const vec3 bent = bend_normal(authored, tangent, vec3(lookup(scene, m.normal_texture, s)), m.normal_scale);
     // face_viewer turned both normals to the viewer's side; the bent one

@@ -19,7 +19,7 @@ vec3 bend_normal(vec3 n, glm::vec4 tangent, vec3 texel, float scale);
 // The tangent at the hit: the vertex tangents interpolated, w the sign of
 // the interpolated w. (0, 0, 0, 0) where a vertex has none or the hit is not
 // on a triangle.
-glm::vec4 tangent_at(const Scene& scene, const Hit& hit);
+glm::vec4 tangent_at(const Scene& scene, const Hit& hit, float time);
 
 // Bends s.ns, which face_viewer has oriented, by `m`'s normal texture (call
 // it only when there is one). `authored` is the interpolated normal as

@@ -29,7 +29,10 @@ Bounds3 Scene::bounds() const {
         extend_by_triangles(*this, 0, world_triangles(), b);
         std::vector<Bounds3> local(meshes.size());
         for (uint32_t m = 0; m < meshes.size(); ++m) local[m] = mesh_bounds(m);
-        for (const Instance& instance : instances) b.extend(instance.to_world.box(local[instance.mesh]));
+        for (const Instance& instance : instances) {
+            b.extend(instance.to_world.box(local[instance.mesh]));
+            if (instance.moving) b.extend(instance.to_world_close.box(local[instance.mesh]));
+        }
     }
     for (const Sphere& s : spheres) {
         b.extend(s.center - vec3(s.radius));

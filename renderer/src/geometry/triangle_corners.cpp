@@ -11,12 +11,15 @@ TriangleCorners triangle_corners(const Scene& scene, const Hit& hit, float time)
         c.p[i] = moving ? scene.position_at(v, time) : scene.positions[v];
         c.n[i] = moving ? lerp_position(scene.normals[v], scene.normals_close[v], time) : scene.normals[v];
     }
-    const Instance* instance = scene.instance_of(hit.instance);
-    if (!instance) return c;
+    const Instance* placed = scene.instance_of(hit.instance);
+    if (!placed) return c;
+    // Where a moving instance stands at `time`, as the ray met it.
+    const Instance moved = placed->moving ? placed->at(time) : Instance{};
+    const Instance* instance = placed->moving ? &moved : placed;
     for (int i = 0; i < 3; ++i) {
         const vec3 local = c.p[i];
         c.p[i] = instance->to_world.point(local);
-        c.n[i] = try_normalize(instance->normal_to_world * c.n[i]).value_or(c.n[i]);
+        c.n[i] = try_normalize(instance->normal_to_world() * c.n[i]).value_or(c.n[i]);
         const vec3 error = instance->to_world.point_error(local) +
                            instance->to_world.spread(instance->to_local.point_error(c.p[i]));
         c.placement_error = glm::max(c.placement_error, error);

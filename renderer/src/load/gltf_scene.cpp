@@ -96,7 +96,7 @@ class GltfSceneBuilder {
     // Nodes per mesh, and the still placements of each mesh drawn more than
     // once, which become instances of one stored copy (geometry/instance.h).
     std::vector<uint32_t> mesh_uses_;
-    std::vector<std::vector<dmat4>> placements_;
+    std::vector<std::vector<World>> placements_;
     std::vector<size_t> placed_order_;  // meshes in the order of their first placement
     // Whether Scene::texcoords1, colors and tangents hold one per vertex yet.
     bool has_texcoords1_ = false, has_colors_ = false, has_tangents_ = false;
@@ -167,20 +167,64 @@ LoadedScene GltfSceneBuilder::build() {
     return std::move(loaded_);
 }
 
-// A mesh that several nodes draw is stored once and instanced where it stands
-// still under a transform that can be inverted; elsewhere (moving, or
-// flattened to a plane) its triangles are copied into world space as before.
+namespace {
+
+// Float holds the transform and its inverse: no scale beyond 1e±12 or so.
+bool invertible_in_float(const dmat4& m) {
+    const double det = glm::determinant(dmat3(m));
+    return std::isfinite(det) && std::abs(det) > 1e-36 && std::abs(det) < 1e36 && fits_float(dvec3(m[3]));
+}
+
+// The blend (1 - t) open + t close stays invertible for every t in [0, 1]:
+// its determinant, a cubic in t, is fixed by four values and must keep the
+// sign it has at open, well away from zero, at its ends and turning points.
+bool blend_stays_invertible(const dmat4& open, const dmat4& close) {
+    const auto det = [&](double t) { return glm::determinant((1.0 - t) * dmat3(open) + t * dmat3(close)); };
+    const double d0 = det(0.0), d1 = det(1.0 / 3.0), d2 = det(2.0 / 3.0), d3 = det(1.0);
+    // Newton's forward differences to the power basis a + b t + c t^2 + e t^3.
+    const double a = d0;
+    const double e = 4.5 * (d3 - 3.0 * d2 + 3.0 * d1 - d0);
+    const double c = 4.5 * (d2 - 2.0 * d1 + d0) - e;
+    const double b = 3.0 * (d1 - d0) - c / 3.0 - e / 9.0;
+    const auto cubic = [&](double t) { return a + t * (b + t * (c + t * e)); };
+    double low = std::min(std::abs(d0), std::abs(d3));
+    bool same_sign = (d0 > 0.0) == (d3 > 0.0);
+    // Turning points: roots of b + 2c t + 3e t^2 inside (0, 1), in the form
+    // that keeps a tiny leading coefficient (a rounded-off e) from cancelling.
+    const double qa = 3.0 * e, qb = 2.0 * c, qc = b;
+    std::vector<double> turns;
+    if (const double disc = qb * qb - 4.0 * qa * qc; disc >= 0.0) {
+        const double q = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
+        if (q != 0.0) turns.push_back(qc / q);
+        if (qa != 0.0) turns.push_back(q / qa);
+    }
+    for (double t : turns) {
+        if (!(t > 0.0 && t < 1.0)) continue;
+        const double v = cubic(t);
+        same_sign = same_sign && (v > 0.0) == (d0 > 0.0);
+        low = std::min(low, std::abs(v));
+    }
+    // Relative to the ends: a blend a million times thinner than the mesh at
+    // open or close is as good as flat in float (and rounding hides a zero).
+    return same_sign && low > 1e-6 * std::max(std::abs(d0), std::abs(d3));
+}
+
+}  // namespace
+
+// A mesh that several nodes draw is stored once and instanced under
+// transforms that can be inverted, at every time of the shutter for a moving
+// node; elsewhere (flattened to a plane at some time) its triangles are
+// copied into world space as before.
 bool GltfSceneBuilder::instanceable(size_t mesh, const World& world) const {
-    if (mesh_uses_[mesh] < 2 || world.open != world.close) return false;
-    const double det = glm::determinant(dmat3(world.open));
-    // Float holds the transform and its inverse: no scale beyond 1e±12 or so.
-    return std::isfinite(det) && std::abs(det) > 1e-36 && std::abs(det) < 1e36 && fits_float(dvec3(world.open[3]));
+    if (mesh_uses_[mesh] < 2 || !invertible_in_float(world.open)) return false;
+    return world.open == world.close ||
+           (invertible_in_float(world.close) && blend_stays_invertible(world.open, world.close));
 }
 
 void GltfSceneBuilder::add_mesh(size_t mesh, const World& world) {
     if (instanceable(mesh, world)) {
         if (placements_[mesh].empty()) placed_order_.push_back(mesh);
-        placements_[mesh].push_back(world.open);
+        placements_[mesh].push_back(world);
         return;
     }
     const tinygltf::Mesh& m = model_.meshes[mesh];
@@ -197,8 +241,7 @@ void GltfSceneBuilder::add_shared_meshes() {
         if (placements_[mesh].size() == 1) {
             const tinygltf::Mesh& m = model_.meshes[mesh];
             for (size_t k = 0; k < m.primitives.size(); ++k)
-                add_primitive(m.primitives[k], at("meshes", mesh) + "." + at("primitives", k),
-                              {placements_[mesh][0], placements_[mesh][0]});
+                add_primitive(m.primitives[k], at("meshes", mesh) + "." + at("primitives", k), placements_[mesh][0]);
         } else {
             shared.push_back(mesh);
         }
@@ -210,8 +253,9 @@ void GltfSceneBuilder::add_shared_meshes() {
             add_primitive(m.primitives[k], at("meshes", mesh) + "." + at("primitives", k), World{});
         const uint32_t number = uint32_t(scene.meshes.size());
         scene.meshes.push_back({first, uint32_t(scene.triangles.size()) - first});
-        for (const dmat4& placement : placements_[mesh])
-            scene.instances.push_back(Instance::make(number, Affine{mat3(dmat3(placement)), vec3(dvec3(placement[3]))}));
+        const auto affine = [](const dmat4& m) { return Affine{mat3(dmat3(m)), vec3(dvec3(m[3]))}; };
+        for (const World& placement : placements_[mesh])
+            scene.instances.push_back(Instance::make(number, affine(placement.open), affine(placement.close)));
     }
 }
 

