@@ -131,6 +131,7 @@ bench: build samples
 	$(PY) renderer/bench/alpha_cost.py --assets $(ASSETS) --rtrender $(BUILD)/rtrender
 	$(PY) renderer/bench/motion_cost.py --scenes $(SCENES) --rtrender $(BUILD)/rtrender
 	$(PY) renderer/bench/instancing_cost.py --scenes $(SCENES) --rtrender $(BUILD)/rtrender
+	$(PY) renderer/bench/instancing_cost.py --scenes $(SCENES) --rtrender $(BUILD)/rtrender --moving --spp 4
 	$(PY) renderer/bench/product_memory.py
 	$(PY) tests/bench/compressed_load_bench.py --scenes $(SCENES) --out $(BUILD)/bench
 	$(MAKE) --no-print-directory fuzz FUZZ_SECONDS=$(BENCH_FUZZ_SECONDS)
