@@ -223,7 +223,11 @@ nb::bytes PyScene::bvh_boxes(int level, const std::string& tree) const {
     for (const rt::Bounds3& b : boxes.bounds)
         for (float f : {b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z}) bounds->Add(f);
     message.set_tree(kind);
-    if (kind == rt::BVH_TREE_INSTANCE) message.set_instance(walked);
+    if (kind == rt::BVH_TREE_INSTANCE) {
+        message.set_instance(walked);
+        const std::vector<std::string>& names = scene_->instance_names;
+        if (walked < names.size()) message.set_instance_name(names[walked]);
+    }
     for (int column = 0; column < 3; ++column)
         for (int row = 0; row < 4; ++row) message.add_to_world(row < 3 ? boxes.to_world.linear[column][row] : 0.0f);
     for (int row = 0; row < 3; ++row) message.add_to_world(boxes.to_world.translation[row]);

@@ -52,6 +52,8 @@ TEST(LoaderInstancing, NodesSharingAMeshStoreItOnceAndMeetTheSameSurfaces) {
     EXPECT_TRUE(copies.instances.empty());
     EXPECT_EQ(copies.triangles.size(), 48u);
     EXPECT_EQ(shared.degenerate_triangles, 1u);
+    ASSERT_EQ(shared.instance_names.size(), 6u);
+    EXPECT_EQ(shared.instance_names[4], "nodes[4]");
     const Accelerator a(shared), b(copies);
     size_t hits = 0;
     for (const Ray& ray : random_rays(copies, 3000, 5)) {
@@ -99,6 +101,7 @@ TEST(LoaderInstancing, MovingNodesAreMovingInstancesThatMeetWhatTheCopiesMeet) {
     EXPECT_TRUE(shared.moving() && copies.moving());
     EXPECT_FALSE(shared.instances[0].moving);
     EXPECT_TRUE(shared.instances[1].moving && shared.instances[2].moving);
+    EXPECT_EQ(shared.instance_names[2], "n2");
     const Accelerator accel(shared), flat(copies);
     std::vector<Ray> rays = random_rays(copies, 4000, 9);
     size_t hits = 0, moving_hits = 0;

@@ -126,8 +126,11 @@ def test_the_debugger_reaches_the_instance_tree_the_ray_entered(client, shared):
         for leaf in visit["visited_leaves"]:
             assert leaf in by_id, f"leaf {leaf} is not one of instance {visit.get('instance', 0)}'s leaves"
             world = corners(tree["bounds"][6 * by_id[leaf]:6 * by_id[leaf] + 6], tree["to_world"])
-            held.append(bool(np.all(hit >= world.min(0) - 1e-3) and np.all(hit <= world.max(0) + 1e-3)))
-    assert any(held), "a visited leaf of an entered instance, in world space, holds the hit point"
+            if np.all(hit >= world.min(0) - 1e-3) and np.all(hit <= world.max(0) + 1e-3):
+                held.append(tree["instance_name"])
+    # The camera aims at node 15, and node 9 stands in front of it on the
+    # same line: the tree named for the node that placed it holds the hit.
+    assert held == ["n9"], f"only a visited leaf of node n9's instance, in world space, holds the hit point: {held}"
     root = client.get(f"/api/scenes/{shared['id']}/bvh?level=0&tree={entered[0].get('instance', 0)}").json()
     assert root["total_levels"] >= 1 and len(root["nodes"]) == 1
 

@@ -157,6 +157,8 @@ describe("shared meshes", { timeout: 120_000 }, () => {
       return { select: document.getElementById("bvh-tree").value, instance: document.getElementById("bvh-instance").value,
         matrix: bvh.lines.matrix.toArray(), boxes: bvh.shownBoxes, min, max };
     });
+    assert.equal(await page.textContent("#bvh-instance-name"), `node ${expected.instance_name}`);
+    assert.match(expected.instance_name, /^nodes\[\d+\]$/, "the file's nodes are unnamed: their places");
     assert.equal(shown.select, "instance");
     assert.equal(shown.instance, tree);
     assert.equal(shown.boxes, expected.nodes.length);

@@ -190,6 +190,7 @@ export class BvhBoxes extends EventTarget {
     this.dispatchEvent(new CustomEvent("change", {
       detail: {
         level: this.level, totalLevels: this.totalLevels, nodeWidth: this.nodeWidth, tree: this.tree,
+        instanceName: data?.instanceName ?? "",
         instanceCount: this.instanceCount, hasWorldTree: this.hasWorldTree,
         shown: result.boxes, shownLeaves: result.leaves, leafTriangles,
         total: data ? data.nodes.length : 0, totalLeaves: data ? data.leaf.filter(Boolean).length : 0,

@@ -15,13 +15,14 @@ export class BvhTreePicker {
     this.pick = $("bvh-tree-pick");
     this.select = $("bvh-tree");
     this.instance = $("bvh-instance");
+    this.name = $("bvh-instance-name");
     this.entered = $("bvh-entered");
     this.select.addEventListener("change", () => this._choose());
     this.instance.addEventListener("change", () => this._choose());
   }
 
   /** A BvhBoxes change: the scene's instance count decides what can be picked. */
-  update({ tree, instanceCount, hasWorldTree }) {
+  update({ tree, instanceCount, hasWorldTree, instanceName }) {
     this.pick.hidden = !instanceCount;
     this.select.querySelector('option[value="world"]').hidden = !hasWorldTree;
     this.instance.max = String(Math.max(instanceCount - 1, 0));
@@ -29,6 +30,8 @@ export class BvhTreePicker {
     this.select.value = isInstance ? "instance" : tree;
     this.instance.hidden = !isInstance;
     if (isInstance) this.instance.value = tree;
+    // Which node of the file placed it: the instance numbers are the loader's.
+    this.name.textContent = isInstance && instanceName ? `node ${instanceName}` : "";
   }
 
   /** The trees below the top level that the traced ray's segments entered, as buttons that show them. */

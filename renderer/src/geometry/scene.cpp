@@ -48,6 +48,8 @@ size_t Scene::stored_bytes() const {
                    bytes(triangle_materials) + bytes(meshes) + bytes(instances) + bytes(spheres) + bytes(materials) +
                    bytes(lights) + bytes(cameras);
     for (const Texture& texture : textures) total += texture.bytes();
+    total += bytes(instance_names);
+    for (const std::string& name : instance_names) total += name.capacity();
     return total;
 }
 

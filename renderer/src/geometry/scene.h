@@ -83,6 +83,9 @@ struct Scene {
     // have positions_close too (equal to positions: instances stand still).
     std::vector<SharedMesh> meshes;
     std::vector<Instance> instances;
+    // One per instance where the loader knows it (else empty): the name of
+    // the node that placed it, or nodes[i], for the debugger.
+    std::vector<std::string> instance_names;
 
     std::vector<Sphere> spheres;
     std::vector<Material> materials;

@@ -82,7 +82,8 @@ class GltfSceneBuilder {
     void add_extra_attributes(const Attributes& attributes, const World& world);
     void add_triangles(int mode, const std::vector<uint32_t>& corners, size_t count, size_t base, bool mirrored,
                        uint32_t material);
-    void add_mesh(size_t mesh, const World& world);
+    // `node` names the drawing node for the user: its name, or nodes[i].
+    void add_mesh(size_t mesh, const World& world, const std::string& node);
     bool instanceable(size_t mesh, const World& world) const;
     void add_shared_meshes();
     void add_camera(const tinygltf::Node& node, const std::string& what, const World& world);
@@ -97,6 +98,7 @@ class GltfSceneBuilder {
     // once, which become instances of one stored copy (geometry/instance.h).
     std::vector<uint32_t> mesh_uses_;
     std::vector<std::vector<World>> placements_;
+    std::vector<std::vector<std::string>> placing_nodes_;  // beside placements_
     std::vector<size_t> placed_order_;  // meshes in the order of their first placement
     // Whether Scene::texcoords1, colors and tangents hold one per vertex yet.
     bool has_texcoords1_ = false, has_colors_ = false, has_tangents_ = false;
@@ -131,6 +133,7 @@ LoadedScene GltfSceneBuilder::build() {
     std::vector<World> world(model_.nodes.size());
     mesh_uses_.assign(model_.meshes.size(), 0);
     placements_.assign(model_.meshes.size(), {});
+    placing_nodes_.assign(model_.meshes.size(), {});
     for (const tinygltf::Node& node : model_.nodes)
         if (node.mesh >= 0 && size_t(node.mesh) < model_.meshes.size()) ++mesh_uses_[size_t(node.mesh)];
     while (!stack.empty()) {
@@ -155,7 +158,7 @@ LoadedScene GltfSceneBuilder::build() {
         if (node.mesh != -1) {
             if (node.mesh < 0 || size_t(node.mesh) >= model_.meshes.size())
                 fail(what + ".mesh refers to mesh " + std::to_string(node.mesh) + ", which does not exist");
-            add_mesh(size_t(node.mesh), world[index]);
+            add_mesh(size_t(node.mesh), world[index], node.name.empty() ? at("nodes", index) : node.name);
         }
         if (node.camera != -1) add_camera(node, what, world[index]);
         // Lights stand still: where they are when the shutter opens.
@@ -221,10 +224,11 @@ bool GltfSceneBuilder::instanceable(size_t mesh, const World& world) const {
            (invertible_in_float(world.close) && blend_stays_invertible(world.open, world.close));
 }
 
-void GltfSceneBuilder::add_mesh(size_t mesh, const World& world) {
+void GltfSceneBuilder::add_mesh(size_t mesh, const World& world, const std::string& node) {
     if (instanceable(mesh, world)) {
         if (placements_[mesh].empty()) placed_order_.push_back(mesh);
         placements_[mesh].push_back(world);
+        placing_nodes_[mesh].push_back(node);
         return;
     }
     const tinygltf::Mesh& m = model_.meshes[mesh];
@@ -256,6 +260,7 @@ void GltfSceneBuilder::add_shared_meshes() {
         const auto affine = [](const dmat4& m) { return Affine{mat3(dmat3(m)), vec3(dvec3(m[3]))}; };
         for (const World& placement : placements_[mesh])
             scene.instances.push_back(Instance::make(number, affine(placement.open), affine(placement.close)));
+        scene.instance_names.insert(scene.instance_names.end(), placing_nodes_[mesh].begin(), placing_nodes_[mesh].end());
     }
 }
 
