@@ -323,6 +323,20 @@ TEST(LoaderHostile, ObjNonFiniteCoordinatesAreRefused) {
     EXPECT_NO_THROW(load_text("v +1 -2 3e-2 # comment\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "ok.obj"));
 }
 
+TEST(LoaderHostile, ObjAndMtlExponentsThatOverflowTheParsersIntAreRefused) {
+    // tinyobjloader sums exponent digits into an int: 2147483648 overflows it
+    // (a fuzzer's find, in an MTL's Ns line).
+    EXPECT_MENTIONS(scene_error([] { load_text("vp 1e2147483648\nv 0 0 0\n", "x.obj"); }),
+                    "x.obj: line 1: the number '1e2147483648' has an exponent out of range");
+    TempDir dir;
+    dir.write("m.mtl", "newmtl a\nKd 1 0 0\nNs 5.E-0002147483649\n");
+    const auto obj = dir.write("m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n");
+    EXPECT_MENTIONS(scene_error([&] { load_scene(obj); }), "m.mtl: line 3: the number '5.E-0002147483649'");
+    // Leading zeros are no overflow, and words with an 'e' are no numbers.
+    dir.write("m.mtl", "newmtl e1234567890123\nNs 1e0000000000002\n");
+    EXPECT_NO_THROW(load_scene(obj));
+}
+
 TEST(LoaderHostile, ObjIndicesOutOfRangeAreRefused) {
     const std::string vertices = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
     EXPECT_MENTIONS(scene_error([&] { load_text(vertices + "f 1 2 9\n", "i.obj"); }),

@@ -14,6 +14,29 @@
 namespace rt {
 namespace {
 
+// tinyobjloader's number parser adds exponent digits to an int, checking for
+// overflow one digit too late: "1e2147483648" is undefined behaviour there.
+// Numbers reach the exponent only after a digit or a dot, so any such exponent
+// of ten or more significant digits is refused, in OBJ and MTL text alike.
+void check_exponents(std::string_view text, const std::string& name) {
+    const auto is_digit = [](char c) { return c >= '0' && c <= '9'; };
+    for (size_t at = 1; at < text.size(); ++at) {
+        if ((text[at] != 'e' && text[at] != 'E') || !(is_digit(text[at - 1]) || text[at - 1] == '.')) continue;
+        size_t digit = at + 1;
+        if (digit < text.size() && (text[digit] == '+' || text[digit] == '-')) ++digit;
+        while (digit < text.size() && text[digit] == '0') ++digit;
+        size_t end = digit;
+        while (end < text.size() && is_digit(text[end])) ++end;
+        if (end - digit < 10) continue;
+        const size_t line = 1 + static_cast<size_t>(std::count(text.begin(), text.begin() + at, '\n'));
+        const size_t space = text.find_last_of(" \t\r\n", at);
+        const size_t from = space == std::string_view::npos ? 0 : space + 1;
+        throw SceneError(name + ": line " + std::to_string(line) + ": the number '" +
+                         std::string(text.substr(from, std::min<size_t>(end - from, 40))) +
+                         "' has an exponent out of range");
+    }
+}
+
 // tinyobjloader's only way to files: `mtllib` names resolved in the scene
 // folder. A refusal is kept and thrown once the parser returns.
 class FolderMaterialReader : public tinyobj::MaterialReader {
@@ -28,7 +51,9 @@ class FolderMaterialReader : public tinyobj::MaterialReader {
                 *warn += "material library " + in_quotes(file) + " not found\n";
                 return false;
             }
-            std::istringstream stream(std::string(bytes->begin(), bytes->end()));
+            std::string text(bytes->begin(), bytes->end());
+            check_exponents(text, file);
+            std::istringstream stream(std::move(text));
             tinyobj::LoadMtl(names, materials, &stream, warn, err);
             return true;
         } catch (const SceneError& e) {
@@ -117,6 +142,7 @@ LoadedScene load_obj(std::span<const unsigned char> data, const SceneFolder& fol
                      std::span<const SceneAdditions::Motion> motions) {
     const std::string& name = folder.scene_name();
     const std::string text = without_skin_weights(data);
+    check_exponents(text, name);
     check_vertex_numbers(text, name);
     std::istringstream stream(text);
     FolderMaterialReader reader(folder);
