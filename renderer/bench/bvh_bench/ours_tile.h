@@ -1,26 +1,44 @@
-// Our side of the packet figures: what a renderer tile's 4 x 4 block of rays
-// costs us. Today that is one Accelerator query per active lane; a coherent
-// tile traversal replaces the bodies of these two functions, and the bench
-// checks and times whatever they do against rtcIntersect16 / rtcOccluded16.
+// Our side of the packet figures: a renderer tile's 4 x 4 block of rays as
+// one Accelerator packet query (geometry/accel.h), its active lanes gathered
+// into consecutive rays first, as a tile's shading loop hands them over.
 #pragma once
+
+#include <array>
 
 #include "geometry/accel.h"
 #include "rays.h"
 
 namespace rt::bench {
 
+// The packet's active rays, in lane order.
+struct GatheredPacket {
+    std::array<Ray, kPacketWidth> rays;
+    std::array<uint32_t, kPacketWidth> index;
+    uint32_t count = 0;
+
+    GatheredPacket(const Ray* all, const Packet& packet) {
+        for (uint32_t ray : packet)
+            if (ray != kInactiveLane) {
+                rays[count] = all[ray];
+                index[count++] = ray;
+            }
+    }
+};
+
 // The packet's rays (indices into `rays`), answers written at the same indices.
 inline void trace_tile_ours(const Accelerator& accel, const Ray* rays, const Packet& packet, Hit* hits) {
-    for (uint32_t ray : packet)
-        if (ray != kInactiveLane) {
-            hits[ray] = Hit{};
-            accel.intersect(rays[ray], hits[ray]);
-        }
+    const GatheredPacket gathered(rays, packet);
+    std::array<Hit, kPacketWidth> found;
+    accel.intersect(std::span(gathered.rays.data(), gathered.count), std::span(found.data(), gathered.count));
+    for (uint32_t i = 0; i < gathered.count; ++i) hits[gathered.index[i]] = found[i];
 }
 
 inline void occluded_tile_ours(const Accelerator& accel, const Ray* rays, const Packet& packet, char* blocked) {
-    for (uint32_t ray : packet)
-        if (ray != kInactiveLane) blocked[ray] = accel.occluded(rays[ray]);
+    const GatheredPacket gathered(rays, packet);
+    std::array<float, kPacketWidth> visibility;
+    accel.visibility(std::span(gathered.rays.data(), gathered.count),
+                     std::span(visibility.data(), gathered.count));
+    for (uint32_t i = 0; i < gathered.count; ++i) blocked[gathered.index[i]] = visibility[i] == 0.0f;
 }
 
 }  // namespace rt::bench

@@ -241,4 +241,20 @@ Accelerator::LevelBoxes Accelerator::boxes(int level, uint32_t tree) const {
     return boxes;
 }
 
+bool Accelerator::intersect(std::span<const Ray> rays, std::span<Hit> hits) const {
+    if (rays.size() != hits.size() || rays.size() > kPacketSize)
+        throw std::invalid_argument("a packet of " + std::to_string(rays.size()) + " rays and " +
+                                    std::to_string(hits.size()) + " hits (at most " + std::to_string(kPacketSize) +
+                                    " rays, one hit each)");
+    return kernels_->intersect_packet(data_, rays.data(), uint32_t(rays.size()), hits.data());
+}
+
+bool Accelerator::visibility(std::span<const Ray> rays, std::span<float> visibility) const {
+    if (rays.size() != visibility.size() || rays.size() > kPacketSize)
+        throw std::invalid_argument("a packet of " + std::to_string(rays.size()) + " rays and " +
+                                    std::to_string(visibility.size()) + " visibilities (at most " +
+                                    std::to_string(kPacketSize) + " rays, one each)");
+    return kernels_->visibility_packet(data_, rays.data(), uint32_t(rays.size()), visibility.data());
+}
+
 }  // namespace rt

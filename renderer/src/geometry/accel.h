@@ -19,8 +19,10 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
+#include "bvh/packet_rays.h"
 #include "geometry/accel_data.h"
 #include "geometry/scene.h"
 #include "geometry/traversal_stats.h"
@@ -77,6 +79,17 @@ class Accelerator {
     bool occluded(const Ray& ray) const { return visibility(ray) == 0.0f; }
     bool occluded(const Ray& ray, TraversalStats& stats) const { return visibility(ray, stats) == 0.0f; }
     bool occluded(const Ray& ray, TraversalRecord& record) const { return visibility(ray, record) == 0.0f; }
+
+    // Packets of up to kPacketSize coherent rays, such as a tile's 4 x 4 camera
+    // rays or their shadow rays towards one light: the answers of the single-ray
+    // queries, found with one traversal of the tree (bvh/packet_rays.h). A
+    // packet whose rays do not run the same way, or a scene that moves, has
+    // alpha or instances, is traced ray by ray. Returns whether the packet
+    // traversal served them. Throws std::invalid_argument when the spans
+    // differ in size or hold more than kPacketSize rays.
+    static constexpr uint32_t kPacketSize = bvh::kPacketSize;
+    bool intersect(std::span<const Ray> rays, std::span<Hit> hits) const;
+    bool visibility(std::span<const Ray> rays, std::span<float> visibility) const;
 
     // The world-space triangles' tree.
     const bvh::WideBvh& wide_bvh() const { return data_.world.bvh; }

@@ -7,8 +7,10 @@
 // CPUs that have AVX2.
 #include <immintrin.h>
 
+#include <new>
 #include <type_traits>
 
+#include "bvh/packet_rays.h"
 #include "bvh/traverse.h"
 #include "bvh/wide_box_test.h"
 #include "geometry/accel_data.h"
@@ -24,6 +26,7 @@ namespace rt::avx2 {
 #include "bvh/wide_box_test_avx2.inl"
 #include "geometry/triangle_block_test_avx2.inl"
 #include "bvh/wide_traverse.inl"
+#include "bvh/packet_traverse.inl"
 #include "geometry/accel_kernels.inl"
 
 }  // namespace rt::avx2

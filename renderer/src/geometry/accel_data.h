@@ -97,6 +97,9 @@ struct AccelKernels {
     float (*visibility)(const AccelScene&, const Ray&);
     float (*visibility_counted)(const AccelScene&, const Ray&, TraversalStats&);
     float (*visibility_recorded)(const AccelScene&, const Ray&, TraversalRecord&);
+    // Up to bvh::kPacketSize coherent rays at once (accel_packet_kernels.inl).
+    bool (*intersect_packet)(const AccelScene&, const Ray*, uint32_t, Hit*);
+    bool (*visibility_packet)(const AccelScene&, const Ray*, uint32_t, float*);
 };
 
 namespace generic { extern const AccelKernels kKernels; }

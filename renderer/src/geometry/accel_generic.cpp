@@ -1,6 +1,8 @@
 // The ray query kernels for any x86-64: SSE2 box and triangle tests.
+#include <new>
 #include <type_traits>
 
+#include "bvh/packet_rays.h"
 #include "bvh/traverse.h"
 #include "bvh/wide_box_test.h"
 #include "geometry/accel_data.h"
@@ -22,6 +24,7 @@ template <bool kMoving>
 }
 
 #include "bvh/wide_traverse.inl"
+#include "bvh/packet_traverse.inl"
 #include "geometry/accel_kernels.inl"
 
 }  // namespace rt::generic

@@ -251,6 +251,8 @@ float visibility_with(const AccelScene& accel, const Ray& ray, Observer observer
     return stopped ? 0.0f : visibility;
 }
 
+#include "geometry/accel_packet_kernels.inl"
+
 const AccelKernels kKernels = {
     [](const AccelScene& d, const Ray& r, Hit& h) { return intersect_with(d, r, h, SilentObserver{}); },
     [](const AccelScene& d, const Ray& r, Hit& h, TraversalStats& s) { return intersect_with(d, r, h, CountingObserver{s}); },
@@ -260,4 +262,6 @@ const AccelKernels kKernels = {
     [](const AccelScene& d, const Ray& r) { return visibility_with(d, r, SilentObserver{}); },
     [](const AccelScene& d, const Ray& r, TraversalStats& s) { return visibility_with(d, r, CountingObserver{s}); },
     [](const AccelScene& d, const Ray& r, TraversalRecord& rec) { return visibility_with(d, r, RecordingObserver{rec}); },
+    intersect_packet_with,
+    visibility_packet_with,
 };

@@ -1,0 +1,158 @@
+// Traversal of the eight-wide BVH by a packet of coherent rays (packet_rays.h),
+// compiled once per SIMD path like wide_traverse.inl, after it, inside the
+// ISA namespace. Inner nodes take one interval test for the whole packet;
+// a leaf is then offered to the rays that enter its own box, tested ray by
+// ray exactly as wide_box_test tests it, so each ray meets the triangles its
+// single-ray traversal would reach and gets the same answer.
+//
+// The eight lanes are GCC vector extensions: AVX2 registers in the AVX2
+// kernels, pairs of SSE2 registers in the generic ones.
+
+// Every function taking or returning them is inlined, so the note that the
+// generic kernels pass them in another way than AVX code would says nothing.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+typedef float PacketLanes __attribute__((vector_size(32)));
+typedef int32_t PacketMask __attribute__((vector_size(32)));
+
+[[gnu::always_inline]] inline PacketLanes lanes_load(const float* p) {
+    PacketLanes v;
+    __builtin_memcpy(&v, p, sizeof v);
+    return v;
+}
+
+[[gnu::always_inline]] inline PacketLanes lanes_splat(float x) { return PacketLanes{} + x; }
+
+[[gnu::always_inline]] inline uint32_t lanes_bits(PacketMask m) {
+    uint32_t bits = 0;
+    for (uint32_t i = 0; i < 8; ++i) bits |= uint32_t(m[i] != 0) << i;
+    return bits;
+}
+
+// Bit i: some ray of the packet may enter child i's box before t_max;
+// t_entry[i] is then a lower bound of where any does (at least 0).
+[[gnu::always_inline]] inline uint32_t packet_box_test(const bvh::WideNode& node, const bvh::PacketRays& p,
+                                                       float t_max, float* t_entry) {
+    const float* rows = node.lower[0];
+    PacketLanes enter = lanes_splat(0.0f);
+    PacketLanes exit = lanes_splat(t_max);
+    for (int axis = 0; axis < 3; ++axis) {
+        const PacketLanes low = lanes_splat(p.inv_low[axis]), high = lanes_splat(p.inv_high[axis]);
+        // The corners of the interval product: rounding is monotone, so these
+        // bound every ray's rounded distances too.
+        const PacketLanes to_near = lanes_load(rows + p.near_row[axis]) - lanes_splat(p.near_origin[axis]);
+        const PacketLanes near_low = to_near * low, near_high = to_near * high;
+        const PacketLanes t_near = near_low < near_high ? near_low : near_high;
+        const PacketLanes to_far = lanes_load(rows + p.far_row[axis]) - lanes_splat(p.far_origin[axis]);
+        const PacketLanes far_low = to_far * low, far_high = to_far * high;
+        const PacketLanes t_far = (far_low > far_high ? far_low : far_high) * lanes_splat(bvh::kExitScale);
+        enter = t_near > enter ? t_near : enter;
+        exit = t_far < exit ? t_far : exit;
+    }
+    __builtin_memcpy(t_entry, &enter, sizeof enter);
+    return lanes_bits((enter <= exit) & (enter < lanes_splat(t_max)));
+}
+
+// Which of the rays in `rays` enter child `slot`'s box before their own
+// t_max: wide_box_test's operations in its order, eight rays a pass.
+[[gnu::always_inline]] inline uint32_t rays_entering(const bvh::WideNode& node, uint32_t slot,
+                                                     const bvh::PacketRays& p, uint32_t rays) {
+    const float* rows = node.lower[0];
+    uint32_t entering = 0;
+    for (uint32_t first = 0; first < p.count; first += 8) {
+        if (((rays >> first) & 0xffu) == 0) continue;
+        PacketLanes enter = lanes_splat(0.0f);
+        PacketLanes t_max = lanes_load(p.t_max + first);
+        PacketLanes exit = t_max;
+        for (int axis = 0; axis < 3; ++axis) {
+            const PacketLanes origin = lanes_load(p.origin[axis] + first);
+            const PacketLanes inv = lanes_load(p.inv_direction[axis] + first);
+            const PacketLanes t_near = (lanes_splat(rows[p.near_row[axis] + slot]) - origin) * inv;
+            const PacketLanes t_far =
+                ((lanes_splat(rows[p.far_row[axis] + slot]) - origin) * inv) * lanes_splat(bvh::kExitScale);
+            enter = t_near > enter ? t_near : enter;
+            exit = t_far < exit ? t_far : exit;
+        }
+        entering |= lanes_bits((enter <= exit) & (enter < t_max)) << first;
+    }
+    return entering & rays;
+}
+
+struct PacketPending {
+    uint32_t ref;
+    float t_entry;
+    uint32_t parent;  // the node whose child it is, and which one: a leaf's box
+    uint32_t slot;
+};
+
+// The largest t_max of the rays in `rays`: no ray of the packet looks further.
+[[gnu::always_inline]] inline float packet_reach(const bvh::PacketRays& p, uint32_t rays) {
+    float reach = 0.0f;
+    for (; rays != 0; rays &= rays - 1) reach = std::max(reach, p.t_max[__builtin_ctz(rays)]);
+    return reach;
+}
+
+// leaf_test(first_block, block_count, rays) tests the leaf's primitives
+// against the rays (a mask) that enter its box. A closest-hit test lowers
+// their p.t_max to the hits it finds; an any-hit test returns the rays it
+// stopped, which leave the packet. Starts with the rays in `active`.
+template <bvh::Query query, typename LeafTest>
+[[gnu::always_inline]] inline void traverse_packet(const bvh::WideBvh& bvh, bvh::PacketRays& p, uint32_t active,
+                                                   LeafTest&& leaf_test) {
+    if (bvh.empty() || active == 0) return;
+    const auto no_prefetch = [](bvh::ChildRef) {};
+    float reach = packet_reach(p, active);
+    PacketPending stack[bvh::kWideStackSize];
+    uint32_t stack_size = 0;
+    PacketPending current{bvh::ChildRef::inner(0).bits, 0.0f, 0, 0};
+    for (;;) {
+        const bvh::ChildRef ref{current.ref};
+        if (!ref.is_leaf()) {
+            const bvh::WideNode& node = bvh.nodes[ref.node()];
+            alignas(32) float t_entry[bvh::kWideWidth];
+            uint32_t hits = packet_box_test(node, p, reach, t_entry);
+            if (hits != 0) {
+                // Farthest first onto the stack, the nearest taken now (any-hit: by slot,
+                // as a single ray's any-hit query takes them).
+                uint64_t keys[bvh::kWideWidth];
+                uint32_t count = 0;
+                for (; hits != 0; hits &= hits - 1) {
+                    const uint32_t slot = uint32_t(__builtin_ctz(hits));
+                    uint32_t bits;
+                    __builtin_memcpy(&bits, &t_entry[slot], sizeof bits);
+                    const uint64_t key = query == bvh::Query::any_hit ? uint64_t(slot) : uint64_t(bits) << 32 | slot;
+                    uint32_t i = count++;
+                    for (; i > 0 && keys[i - 1] < key; --i) keys[i] = keys[i - 1];
+                    keys[i] = key;
+                }
+                const uint32_t parent = ref.node();
+                for (uint32_t i = 0; i + 1 < count; ++i) {
+                    const uint32_t s = uint32_t(keys[i]);
+                    prefetch_child(bvh, node.child[s], no_prefetch);
+                    stack[stack_size++] = {node.child[s].bits, t_entry[s], parent, s};
+                }
+                const uint32_t s = uint32_t(keys[count - 1]);
+                current = {node.child[s].bits, t_entry[s], parent, s};
+                continue;
+            }
+        } else {
+            const uint32_t rays = rays_entering(bvh.nodes[current.parent], current.slot, p, active);
+            if (rays != 0) {
+                if constexpr (query == bvh::Query::any_hit) {
+                    active &= ~leaf_test(ref.first_block(), ref.block_count(), rays);
+                    if (active == 0) return;
+                } else {
+                    leaf_test(ref.first_block(), ref.block_count(), rays);
+                }
+                reach = packet_reach(p, active);
+            }
+        }
+        for (;;) {
+            if (stack_size == 0) return;
+            current = stack[--stack_size];
+            if (current.t_entry < reach) break;
+        }
+    }
+}
+
+#pragma GCC diagnostic pop

@@ -1,0 +1,190 @@
+// Packet queries (Accelerator::intersect / visibility over spans): the same
+// answers as the single-ray queries, ray for ray, on every SIMD path, for
+// packets the interval traversal takes (camera cones, orthographic beams) and
+// for those it hands back to single rays; through edges and vertices without
+// leaks; against brute force on a sample mesh.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "geometry/accel.h"
+#include "geometry/brute_force.h"
+#include "integrator/camera.h"
+#include "integrator/default_camera.h"
+#include "test_meshes.h"
+
+namespace rt {
+namespace {
+
+using namespace rt::testing;
+
+std::vector<SimdPath> paths() {
+    std::vector<SimdPath> supported{SimdPath::generic};
+    if (cpu_supports(SimdPath::avx2)) supported.push_back(SimdPath::avx2);
+    return supported;
+}
+
+// A camera's 4 x 4 pixel blocks over a size x size image: each a packet.
+std::vector<std::vector<Ray>> camera_packets(const Scene& scene, uint32_t size) {
+    const ViewCamera camera(default_camera(scene), size, size);
+    std::vector<std::vector<Ray>> packets;
+    for (uint32_t by = 0; by < size; by += 4)
+        for (uint32_t bx = 0; bx < size; bx += 4) {
+            std::vector<Ray>& packet = packets.emplace_back();
+            for (uint32_t y = by; y < by + 4; ++y)
+                for (uint32_t x = bx; x < bx + 4; ++x) packet.push_back(camera.generate_ray(x + 0.5f, y + 0.5f));
+        }
+    return packets;
+}
+
+// Packets answer as their rays do one by one: the same distance, and the
+// same triangle unless two sit at that very distance (a shared edge met in
+// another leaf order). Returns whether the packet traversal took them.
+bool expect_same_answers(const Accelerator& accel, const std::vector<Ray>& packet, const std::string& what) {
+    std::vector<Hit> hits(packet.size());
+    std::vector<float> visibility(packet.size());
+    const bool as_packet = accel.intersect(packet, hits);
+    EXPECT_EQ(accel.visibility(packet, visibility), as_packet) << what;
+    for (size_t i = 0; i < packet.size(); ++i) {
+        Hit single;
+        const bool found = accel.intersect(packet[i], single);
+        EXPECT_EQ(hits[i].found(), found) << what << " ray " << i;
+        EXPECT_EQ(hits[i].t, single.t) << what << " ray " << i;
+        if (hits[i].primitive != single.primitive) {
+            // The packet's triangle alone, at the same distance.
+            if (hits[i].primitive >= accel.scene().triangles.size()) {
+                ADD_FAILURE() << what << " ray " << i << ": primitive " << hits[i].primitive << ", not "
+                              << single.primitive;
+                continue;
+            }
+            Hit alone;
+            brute_force_triangles(accel.scene(), packet[i], 1.0f, hits[i].primitive, 1, kNoInstance, alone);
+            EXPECT_EQ(alone.t, single.t) << what << " ray " << i << ": another triangle, not at a tie";
+        }
+        EXPECT_EQ(visibility[i], accel.visibility(packet[i])) << what << " ray " << i;
+    }
+    return as_packet;
+}
+
+TEST(AccelPacket, CameraPacketsAnswerAsSingleRays) {
+    const Scene scene = sample_scene("bunny.glb");
+    for (SimdPath path : paths()) {
+        const Accelerator accel(scene, 1, path);
+        size_t hit_rays = 0, as_packets = 0;
+        const std::vector<std::vector<Ray>> packets = camera_packets(scene, 96);
+        for (const std::vector<Ray>& packet : packets) {
+            as_packets += expect_same_answers(accel, packet, to_string(path));
+            for (const Ray& ray : packet) {
+                Hit hit;
+                hit_rays += accel.intersect(ray, hit);
+            }
+        }
+        EXPECT_GT(hit_rays, 96u * 96u / 8) << "the bunny fills part of the view";
+        // All but the packets straddling the view's centre lines.
+        EXPECT_GT(as_packets, packets.size() * 9 / 10);
+    }
+}
+
+TEST(AccelPacket, PacketsAgreeWithBruteForceOnTheDragon) {
+    const Scene scene = sample_scene("dragon_4.glb");
+    const Accelerator accel(scene);
+    size_t checked = 0;
+    for (const std::vector<Ray>& packet : camera_packets(scene, 48)) {
+        std::vector<Hit> hits(packet.size());
+        accel.intersect(packet, hits);
+        for (size_t i = 0; i < packet.size(); ++i) {
+            const Hit expected = brute_force_hit(scene, packet[i]);
+            ASSERT_EQ(hits[i].found(), expected.found()) << "ray " << checked;
+            if (expected.found()) {
+                EXPECT_EQ(hits[i].t, expected.t) << "ray " << checked;
+            }
+            ++checked;
+        }
+    }
+    EXPECT_EQ(checked, 48u * 48u);
+}
+
+TEST(AccelPacket, OrthographicBeamsAndShortRaysAnswerAsSingleRays) {
+    const Scene scene = icosphere(4);
+    for (SimdPath path : paths()) {
+        const Accelerator accel(scene, 1, path);
+        for (float x0 = -1.2f; x0 < 1.2f; x0 += 0.3f) {
+            std::vector<Ray> packet;
+            for (int k = 0; k < 16; ++k) {
+                const vec3 origin(x0 + 0.05f * float(k % 4), -0.9f + 0.11f * float(k), 3.0f);
+                // Every other ray stops short of the sphere or just inside it.
+                const float t_max = k % 3 == 0 ? 1.5f : k % 3 == 1 ? 2.2f : kInfinity;
+                packet.push_back({origin, normalize(vec3(0.1f, 0.05f, -1.0f)), t_max});
+            }
+            EXPECT_TRUE(expect_same_answers(accel, packet, to_string(path))) << "a beam is a packet";
+        }
+    }
+}
+
+TEST(AccelPacket, IncoherentPacketsGoRayByRay) {
+    // Random origins and directions of every sign: not a packet the interval
+    // test bounds, so each ray is traced alone, with the same answers.
+    const Scene scene = icosphere(3);
+    const std::vector<Ray> rays = random_rays(scene, 16 * 20, 7);
+    const Accelerator accel(scene);
+    for (size_t first = 0; first < rays.size(); first += 16)
+        EXPECT_FALSE(expect_same_answers(accel, std::vector<Ray>(rays.begin() + first, rays.begin() + first + 16),
+                                         "random"));
+    // Lone rays, and packets of any size up to 16.
+    for (size_t n : {size_t(0), size_t(1), size_t(5), size_t(16)})
+        expect_same_answers(accel, std::vector<Ray>(rays.begin(), rays.begin() + n), "size " + std::to_string(n));
+}
+
+TEST(AccelPacket, CameraPacketsThroughEdgesAndVerticesDoNotLeak) {
+    // One packet per triangle from a point inside the closed mesh, aimed at
+    // the triangle's corners and at points along its edges, which it shares.
+    const Scene scene = icosphere(3);
+    const vec3 inside(0.1f, -0.2f, 0.3f);
+    for (SimdPath path : paths()) {
+        const Accelerator accel(scene, 1, path);
+        int leaks = 0, packets = 0;
+        for (const uvec3& t : scene.triangles) {
+            std::vector<Ray> packet;
+            for (int k = 0; k < 3; ++k)
+                for (float s : {0.0f, 0.25f, 0.5f, 0.75f, 1.0f / 3.0f})
+                    packet.push_back({inside, glm::mix(scene.positions[t[k]], scene.positions[t[(k + 1) % 3]], s) - inside,
+                                      kInfinity});
+            std::vector<Hit> hits(packet.size());
+            std::vector<float> visibility(packet.size());
+            packets += accel.intersect(packet, hits);
+            accel.visibility(packet, visibility);
+            for (size_t i = 0; i < packet.size(); ++i) leaks += !hits[i].found() + (visibility[i] != 0.0f);
+        }
+        EXPECT_EQ(leaks, 0) << to_string(path);
+        // Triangles whose rays run both ways along some axis go ray by ray.
+        EXPECT_GT(packets, int(scene.triangles.size()) / 3) << "many triangles' rays make packets";
+    }
+}
+
+TEST(AccelPacket, SpheresInFrontOfTrianglesAreFound) {
+    Scene scene = grid(4);
+    scene.spheres.push_back({vec3(2.0f, 2.0f, 0.5f), 0.3f, 0});
+    scene.materials.resize(1);
+    const Accelerator accel(scene);
+    std::vector<Ray> packet;
+    for (int k = 0; k < 16; ++k)
+        packet.push_back({vec3(1.5f, 1.5f, 5.0f), normalize(vec3(0.1f + 0.01f * float(k % 4),
+                                                                 0.1f + 0.01f * float(k / 4), -1.0f)), kInfinity});
+    EXPECT_TRUE(expect_same_answers(accel, packet, "spheres"));
+    std::vector<Hit> hits(16);
+    accel.intersect(packet, hits);
+    EXPECT_EQ(hits[0].primitive, uint32_t(scene.triangles.size())) << "the sphere, before the grid";
+}
+
+TEST(AccelPacket, MismatchedOrOversizedSpansAreRefused) {
+    const Scene scene = icosphere(1);
+    const Accelerator accel(scene);
+    std::vector<Ray> rays(17);
+    std::vector<Hit> hits(17);
+    std::vector<float> visibility(16);
+    EXPECT_THROW(accel.intersect(rays, hits), std::invalid_argument);
+    EXPECT_THROW(accel.visibility(std::span(rays).first(16), std::span(visibility).first(15)), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rt
