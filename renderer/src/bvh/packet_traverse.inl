@@ -8,10 +8,6 @@
 // The eight lanes are GCC vector extensions: AVX2 registers in the AVX2
 // kernels, pairs of SSE2 registers in the generic ones.
 
-// Every function taking or returning them is inlined, so the note that the
-// generic kernels pass them in another way than AVX code would says nothing.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wpsabi"
 typedef float PacketLanes __attribute__((vector_size(32)));
 typedef int32_t PacketMask __attribute__((vector_size(32)));
 
@@ -154,5 +150,3 @@ template <bvh::Query query, typename LeafTest>
         }
     }
 }
-
-#pragma GCC diagnostic pop

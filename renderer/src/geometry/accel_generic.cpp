@@ -10,6 +10,11 @@
 #include "geometry/surface_material.h"
 #include "geometry/triangle_block_test.h"
 
+// The packet traversal's 32-byte vectors (packet_traverse.inl) live only in
+// inlined functions, so GCC's note that SSE2 code passes them otherwise than
+// AVX code would, which it gives at the end of the file, concerns no call.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
 namespace rt::generic {
 
 template <bool kMoving>
