@@ -331,7 +331,7 @@ TEST(LoaderHostile, ObjAndMtlExponentsThatOverflowTheParsersIntAreRefused) {
     TempDir dir;
     dir.write("m.mtl", "newmtl a\nKd 1 0 0\nNs 5.E-0002147483649\n");
     const auto obj = dir.write("m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n");
-    EXPECT_MENTIONS(scene_error([&] { load_scene(obj); }), "m.mtl: line 3: the number '5.E-0002147483649'");
+    EXPECT_MENTIONS(scene_error([&] { load_scene(obj); }), "m.obj: m.mtl: line 3: the number '5.E-0002147483649'");
     // Leading zeros are no overflow, and words with an 'e' are no numbers.
     dir.write("m.mtl", "newmtl e1234567890123\nNs 1e0000000000002\n");
     EXPECT_NO_THROW(load_scene(obj));

@@ -71,6 +71,7 @@ def obj_cases(c: Corpus) -> None:
         ("v_1e999", "v 0 0 1e999", "v value '1e999' is not a finite number"),
         ("v_0e999", "v 0e999 0 0", "v #4 is not a finite float"),  # 0 * 10^999 to from_chars, NaN to tinyobj
         ("v_exponent_overflow", "v 1e99999999999999 0 0", "is not a finite number"),
+        ("vp_exponent_int_overflow", "vp 1e2147483648", "the number '1e2147483648' has an exponent out of range"),
         ("v_letters", "v 1 x 0", "v value 'x' is not a finite number"),
         ("v_hex", "v 0x10 0 0", "is not a finite number"),
         ("v_one_component", "v 1", ""),
@@ -118,7 +119,9 @@ def obj_cases(c: Corpus) -> None:
         ("kd_negative", "Kd 0.5 -1 0.5", "error", "has a negative Kd, Ks or Ns"),
         ("kd_nan", "Kd nan 0 0", "any", ""),
         ("kd_1e400", "Kd 1e400 0 0", "error", "not a finite float"),
-        ("kd_exponent_overflow", "Kd 1e99999999999999 0 0", "any", ""),
+        ("kd_exponent_overflow", "Kd 1e99999999999999 0 0", "error", "has an exponent out of range"),
+        ("ns_exponent_int_overflow", "Ns 5.E-2147483649", "error", "obj_mtl_ns_exponent_int_overflow.mtl: line 2: "
+         "the number '5.E-2147483649' has an exponent out of range"),
         ("ns_1e400", "Ns 1e400", "error", "has a Kd, Ks or Ns"),
         ("ns_negative", "Ns -5", "error", "negative"),
         ("ni_zero_transparent", "d 0.5\nNi 0", "error", "with Ni 0, expected an index of refraction of at least 1"),

@@ -52,7 +52,7 @@ class FolderMaterialReader : public tinyobj::MaterialReader {
                 return false;
             }
             std::string text(bytes->begin(), bytes->end());
-            check_exponents(text, file);
+            check_exponents(text, folder_.scene_name() + ": " + file);
             std::istringstream stream(std::move(text));
             tinyobj::LoadMtl(names, materials, &stream, warn, err);
             return true;
@@ -142,8 +142,8 @@ LoadedScene load_obj(std::span<const unsigned char> data, const SceneFolder& fol
                      std::span<const SceneAdditions::Motion> motions) {
     const std::string& name = folder.scene_name();
     const std::string text = without_skin_weights(data);
-    check_exponents(text, name);
     check_vertex_numbers(text, name);
+    check_exponents(text, name);
     std::istringstream stream(text);
     FolderMaterialReader reader(folder);
     tinyobj::attrib_t attrib;
