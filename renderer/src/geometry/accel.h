@@ -81,10 +81,10 @@ class Accelerator {
     bool occluded(const Ray& ray, TraversalRecord& record) const { return visibility(ray, record) == 0.0f; }
 
     // Packets of up to kPacketSize coherent rays, such as a tile's 4 x 4 camera
-    // rays or their shadow rays towards one light: the answers of the single-ray
-    // queries, found with one traversal of the tree (bvh/packet_rays.h). A
-    // packet whose rays do not run the same way, or a scene that moves, has
-    // alpha or instances, is traced ray by ray. Returns whether the packet
+    // rays (one origin) or an orthographic beam (one direction): the answers of
+    // the single-ray queries, found with one traversal of the tree
+    // (bvh/packet_rays.h). Other packets (shadow rays from many points), and
+    // scenes that move, have alpha or instances, are traced ray by ray. Returns whether the packet
     // traversal served them. Throws std::invalid_argument when the spans
     // differ in size or hold more than kPacketSize rays.
     static constexpr uint32_t kPacketSize = bvh::kPacketSize;

@@ -57,42 +57,82 @@ template <typename Observer>
     }
 }
 
+// One ray against a leaf's blocks: the nearest triangle with t < t_max into
+// `nearest`, lowering t_max to it. Returns whether it found one. Shared by
+// the single-ray and the packet queries (accel_packet_kernels.inl).
+template <bool kMoving, bool kFiltered, typename Observer>
+[[gnu::always_inline]] inline bool closest_in_leaf(const AccelData& data, const WatertightRay4& watertight,
+                                                   uint32_t first_block, uint32_t block_count, float time,
+                                                   float& t_max, Hit& nearest, Observer& observer) {
+    bool found_here = false;
+    const uint32_t end = first_block + block_count;
+    for (uint32_t b = first_block; b < end; b += 2) {
+        TriangleBlock moved[2];
+        const TriangleBlock* pair[2];
+        const uint32_t count = blocks_at<kMoving>(data, b, end, time, moved, pair, observer);
+        PairHits hits;
+        uint32_t lanes = intersect_block_pair(watertight, pair, count, t_max, hits);
+        // Lane order with a strict `<`: among equal distances the first
+        // triangle wins, as in a loop of scalar tests.
+        for (; lanes != 0; lanes &= lanes - 1) {
+            const uint32_t lane = uint32_t(__builtin_ctz(lanes));
+            const TriangleBlock& block = *pair[lane >> 2];
+            const uint32_t slot = lane & 3;
+            if (!(hits.t(lane) < t_max)) continue;
+            // A hole leaves the nearest hit as it was.
+            if (kFiltered && block.has_alpha(slot) &&
+                !(triangle_coverage(*data.scene, block.triangle(slot), hits.u(lane), hits.v(lane)) > 0.0f))
+                continue;
+            t_max = hits.t(lane);
+            nearest = {hits.t(lane), block.triangle(slot), hits.u(lane), hits.v(lane)};
+            found_here = true;
+        }
+    }
+    return found_here;
+}
+
+// One ray against a leaf's blocks: whether an opaque triangle with t < t_max
+// stops it; scales `visibility` by the BLEND surfaces it passes. Shared like
+// closest_in_leaf.
+template <bool kMoving, bool kFiltered, typename Observer>
+[[gnu::always_inline]] inline bool stopped_in_leaf(const AccelData& data, const WatertightRay4& watertight,
+                                                   uint32_t first_block, uint32_t block_count, float time,
+                                                   float t_max, float& visibility, Observer& observer) {
+    const uint32_t end = first_block + block_count;
+    for (uint32_t b = first_block; b < end; b += 2) {
+        TriangleBlock moved[2];
+        const TriangleBlock* pair[2];
+        const uint32_t count = blocks_at<kMoving>(data, b, end, time, moved, pair, observer);
+        PairHits hits;
+        uint32_t lanes = intersect_block_pair(watertight, pair, count, t_max, hits);
+        if (lanes == 0) continue;
+        if (!kFiltered) return true;
+        for (; lanes != 0; lanes &= lanes - 1) {
+            const uint32_t lane = uint32_t(__builtin_ctz(lanes));
+            const TriangleBlock& block = *pair[lane >> 2];
+            const uint32_t slot = lane & 3;
+            if (!block.has_alpha(slot)) return true;
+            // Each triangle sits in one leaf, so each is met once: the
+            // product over them does not depend on the order.
+            visibility *= 1.0f - triangle_coverage(*data.scene, block.triangle(slot), hits.u(lane), hits.v(lane));
+            if (!(visibility > 0.0f)) return true;
+        }
+    }
+    return false;
+}
+
 // The nearest triangle of one tree with t < ray.t_max, into `hit` when found.
 // flatten: the traversal, the leaf test and the triangle test become one
 // function, so the per-ray constants stay in registers.
 template <bool kMoving, bool kFiltered, typename Observer>
 [[gnu::flatten]] bool closest_triangle(const AccelData& data, const Ray& ray, Hit& hit, Observer observer) {
-    const Scene& scene = *data.scene;
     const WatertightRay4 watertight(WatertightRay{ray});
     Hit nearest;
     const bool found = traverse_wide<bvh::Query::closest_hit, kMoving>(
         data.bvh, ray,
         [&](uint32_t first_block, uint32_t block_count, float& t_max) {
-            bool found_here = false;
-            const uint32_t end = first_block + block_count;
-            for (uint32_t b = first_block; b < end; b += 2) {
-                TriangleBlock moved[2];
-                const TriangleBlock* pair[2];
-                const uint32_t count = blocks_at<kMoving>(data, b, end, ray.time, moved, pair, observer);
-                PairHits hits;
-                uint32_t lanes = intersect_block_pair(watertight, pair, count, t_max, hits);
-                // Lane order with a strict `<`: among equal distances the first
-                // triangle wins, as in a loop of scalar tests.
-                for (; lanes != 0; lanes &= lanes - 1) {
-                    const uint32_t lane = uint32_t(__builtin_ctz(lanes));
-                    const TriangleBlock& block = *pair[lane >> 2];
-                    const uint32_t slot = lane & 3;
-                    if (!(hits.t(lane) < t_max)) continue;
-                    // A hole leaves the nearest hit as it was.
-                    if (kFiltered && block.has_alpha(slot) &&
-                        !(triangle_coverage(scene, block.triangle(slot), hits.u(lane), hits.v(lane)) > 0.0f))
-                        continue;
-                    t_max = hits.t(lane);
-                    nearest = {hits.t(lane), block.triangle(slot), hits.u(lane), hits.v(lane)};
-                    found_here = true;
-                }
-            }
-            return found_here;
+            return closest_in_leaf<kMoving, kFiltered>(data, watertight, first_block, block_count, ray.time, t_max,
+                                                       nearest, observer);
         },
         [&](bvh::ChildRef leaf) { prefetch_blocks<kMoving>(data, leaf); }, observer);
     if (found) hit = nearest;
@@ -103,32 +143,12 @@ template <bool kMoving, bool kFiltered, typename Observer>
 // `visibility` by the BLEND surfaces it passed.
 template <bool kMoving, bool kFiltered, typename Observer>
 [[gnu::flatten]] bool any_triangle(const AccelData& data, const Ray& ray, float& visibility, Observer observer) {
-    const Scene& scene = *data.scene;
     const WatertightRay4 watertight(WatertightRay{ray});
     return traverse_wide<bvh::Query::any_hit, kMoving>(
         data.bvh, ray,
         [&](uint32_t first_block, uint32_t block_count, float& t_max) {
-            const uint32_t end = first_block + block_count;
-            for (uint32_t b = first_block; b < end; b += 2) {
-                TriangleBlock moved[2];
-                const TriangleBlock* pair[2];
-                const uint32_t count = blocks_at<kMoving>(data, b, end, ray.time, moved, pair, observer);
-                PairHits hits;
-                uint32_t lanes = intersect_block_pair(watertight, pair, count, t_max, hits);
-                if (lanes == 0) continue;
-                if (!kFiltered) return true;
-                for (; lanes != 0; lanes &= lanes - 1) {
-                    const uint32_t lane = uint32_t(__builtin_ctz(lanes));
-                    const TriangleBlock& block = *pair[lane >> 2];
-                    const uint32_t slot = lane & 3;
-                    if (!block.has_alpha(slot)) return true;
-                    // Each triangle sits in one leaf, so each is met once: the
-                    // product over them does not depend on the order.
-                    visibility *= 1.0f - triangle_coverage(scene, block.triangle(slot), hits.u(lane), hits.v(lane));
-                    if (!(visibility > 0.0f)) return true;
-                }
-            }
-            return false;
+            return stopped_in_leaf<kMoving, kFiltered>(data, watertight, first_block, block_count, ray.time, t_max,
+                                                       visibility, observer);
         },
         [&](bvh::ChildRef leaf) { prefetch_blocks<kMoving>(data, leaf); }, observer);
 }
@@ -196,11 +216,10 @@ bool closest_through_top(const AccelScene& accel, const Ray& clipped, Hit& neare
         [](bvh::ChildRef) {}, observer);
 }
 
-template <typename Observer>
-bool intersect_with(const AccelScene& accel, const Ray& ray, Hit& hit, Observer observer) {
-    const Scene& scene = *accel.scene;
+// The nearest sphere into `hit` (else no hit), and the ray shortened to it:
+// spheres go first, since their hit shortens the ray the trees follow.
+inline Ray nearest_sphere(const Scene& scene, const Ray& ray, Hit& hit) {
     hit = Hit{};
-    // Spheres first: their hit shortens the ray the trees have to follow.
     Ray clipped = ray;
     for (size_t s = 0; s < scene.spheres.size(); ++s) {
         float t;
@@ -209,6 +228,20 @@ bool intersect_with(const AccelScene& accel, const Ray& ray, Hit& hit, Observer 
             hit = {t, uint32_t(scene.triangles.size() + s), 0.0f, 0.0f};
         }
     }
+    return clipped;
+}
+
+inline bool sphere_blocks(const Scene& scene, const Ray& ray) {
+    for (const Sphere& sphere : scene.spheres) {
+        float t;
+        if (intersect_sphere(ray, sphere, t)) return true;
+    }
+    return false;
+}
+
+template <typename Observer>
+bool intersect_with(const AccelScene& accel, const Ray& ray, Hit& hit, Observer observer) {
+    const Ray clipped = nearest_sphere(*accel.scene, ray, hit);
     if (!accel.instanced()) {
         closest_in(accel.world, clipped, hit, observer);
         return hit.found();
@@ -236,10 +269,7 @@ bool any_through_top(const AccelScene& accel, const Ray& ray, float& visibility,
 
 template <typename Observer>
 float visibility_with(const AccelScene& accel, const Ray& ray, Observer observer) {
-    for (const Sphere& sphere : accel.scene->spheres) {
-        float t;
-        if (intersect_sphere(ray, sphere, t)) return 0.0f;
-    }
+    if (sphere_blocks(*accel.scene, ray)) return 0.0f;
     float visibility = 1.0f;
     bool stopped;
     if (!accel.instanced())

@@ -23,54 +23,34 @@ static_assert(std::is_trivially_destructible_v<WatertightRay4>);
 // A still, opaque world tree only: the caller checks.
 [[gnu::flatten]] inline void closest_packet(const AccelData& data, bvh::PacketRays& p, const Ray* rays, Hit* hits) {
     const PacketWatertight watertight(rays, p.count);
-    const uint32_t all = (1u << p.count) - 1;
     SilentObserver none;
-    traverse_packet<bvh::Query::closest_hit>(data.bvh, p, all, [&](uint32_t first_block, uint32_t block_count,
-                                                                   uint32_t rays_in) {
+    traverse_packet<bvh::Query::closest_hit>(data.bvh, p, (1u << p.count) - 1, [&](uint32_t first_block,
+                                                                               uint32_t block_count, uint32_t in) {
         prefetch_blocks<false>(data, bvh::ChildRef::leaf(first_block, block_count));
-        const uint32_t end = first_block + block_count;
-        for (; rays_in != 0; rays_in &= rays_in - 1) {
-            const uint32_t r = uint32_t(__builtin_ctz(rays_in));
-            for (uint32_t b = first_block; b < end; b += 2) {
-                TriangleBlock unused[2];
-                const TriangleBlock* pair[2];
-                const uint32_t count = blocks_at<false>(data, b, end, 0.0f, unused, pair, none);
-                PairHits found;
-                for (uint32_t lanes = intersect_block_pair(watertight[r], pair, count, p.t_max[r], found);
-                     lanes != 0; lanes &= lanes - 1) {
-                    const uint32_t lane = uint32_t(__builtin_ctz(lanes));
-                    if (!(found.t(lane) < p.t_max[r])) continue;
-                    p.t_max[r] = found.t(lane);
-                    hits[r] = {found.t(lane), pair[lane >> 2]->triangle(lane & 3), found.u(lane), found.v(lane)};
-                }
-            }
+        for (; in != 0; in &= in - 1) {
+            const uint32_t r = uint32_t(__builtin_ctz(in));
+            closest_in_leaf<false, false>(data, watertight[r], first_block, block_count, 0.0f, p.t_max[r], hits[r],
+                                          none);
         }
     });
 }
 
-// Returns the rays an opaque triangle stops, as a mask.
+// Returns the rays (a mask of those in `active`) an opaque triangle stops.
 [[gnu::flatten]] inline uint32_t occluded_packet(const AccelData& data, bvh::PacketRays& p, const Ray* rays,
                                                  uint32_t active) {
     const PacketWatertight watertight(rays, p.count);
-    uint32_t stopped = 0;
     SilentObserver none;
+    uint32_t stopped = 0;
     traverse_packet<bvh::Query::any_hit>(data.bvh, p, active, [&](uint32_t first_block, uint32_t block_count,
-                                                                  uint32_t rays_in) {
+                                                                  uint32_t in) {
         prefetch_blocks<false>(data, bvh::ChildRef::leaf(first_block, block_count));
-        const uint32_t end = first_block + block_count;
         uint32_t stopped_here = 0;
-        for (; rays_in != 0; rays_in &= rays_in - 1) {
-            const uint32_t r = uint32_t(__builtin_ctz(rays_in));
-            for (uint32_t b = first_block; b < end; b += 2) {
-                TriangleBlock unused[2];
-                const TriangleBlock* pair[2];
-                const uint32_t count = blocks_at<false>(data, b, end, 0.0f, unused, pair, none);
-                PairHits found;
-                if (intersect_block_pair(watertight[r], pair, count, p.t_max[r], found) != 0) {
-                    stopped_here |= 1u << r;
-                    break;
-                }
-            }
+        for (; in != 0; in &= in - 1) {
+            const uint32_t r = uint32_t(__builtin_ctz(in));
+            float unused = 1.0f;  // an opaque scene's rays pass or stop
+            if (stopped_in_leaf<false, false>(data, watertight[r], first_block, block_count, 0.0f, p.t_max[r],
+                                              unused, none))
+                stopped_here |= 1u << r;
         }
         stopped |= stopped_here;
         return stopped_here;
@@ -89,20 +69,7 @@ bool intersect_packet_with(const AccelScene& accel, const Ray* rays, uint32_t co
         for (uint32_t i = 0; i < count; ++i) intersect_with(accel, rays[i], hits[i], SilentObserver{});
         return false;
     }
-    const Scene& scene = *accel.scene;
-    // Spheres first, ray by ray, as intersect_with: they shorten the rays.
-    for (uint32_t i = 0; i < count; ++i) {
-        hits[i] = Hit{};
-        for (size_t s = 0; s < scene.spheres.size(); ++s) {
-            float t;
-            Ray clipped = rays[i];
-            clipped.t_max = p.t_max[i];
-            if (intersect_sphere(clipped, scene.spheres[s], t)) {
-                p.t_max[i] = t;
-                hits[i] = {t, uint32_t(scene.triangles.size() + s), 0.0f, 0.0f};
-            }
-        }
-    }
+    for (uint32_t i = 0; i < count; ++i) p.t_max[i] = nearest_sphere(*accel.scene, rays[i], hits[i]).t_max;
     closest_packet(accel.world, p, rays, hits);
     return true;
 }
@@ -115,17 +82,11 @@ bool visibility_packet_with(const AccelScene& accel, const Ray* rays, uint32_t c
     }
     uint32_t active = 0;
     for (uint32_t i = 0; i < count; ++i) {
-        visibility[i] = 1.0f;
-        for (const Sphere& sphere : accel.scene->spheres) {
-            float t;
-            if (intersect_sphere(rays[i], sphere, t)) {
-                visibility[i] = 0.0f;
-                break;
-            }
-        }
-        if (visibility[i] != 0.0f) active |= 1u << i;
+        const bool blocked = sphere_blocks(*accel.scene, rays[i]);
+        visibility[i] = blocked ? 0.0f : 1.0f;
+        active |= uint32_t(!blocked) << i;
     }
-    uint32_t stopped = occluded_packet(accel.world, p, rays, active);
-    for (; stopped != 0; stopped &= stopped - 1) visibility[__builtin_ctz(stopped)] = 0.0f;
+    for (uint32_t stopped = occluded_packet(accel.world, p, rays, active); stopped != 0; stopped &= stopped - 1)
+        visibility[__builtin_ctz(stopped)] = 0.0f;
     return true;
 }
