@@ -1,5 +1,7 @@
 // Packet queries (Accelerator::intersect / visibility over spans): the same
-// answers as the single-ray queries, ray for ray, on every SIMD path, for
+// answers as the single-ray queries, ray for ray and bit for bit (t, u, v),
+// on every SIMD path, whether a leaf tests a packet's rays one by one or
+// eight rays against each triangle, for
 // packets the interval traversal takes (camera cones, orthographic beams) and
 // for those it hands back to single rays; through edges and vertices without
 // leaks; against brute force on a sample mesh.
@@ -50,7 +52,10 @@ bool expect_same_answers(const Accelerator& accel, const std::vector<Ray>& packe
         const bool found = accel.intersect(packet[i], single);
         EXPECT_EQ(hits[i].found(), found) << what << " ray " << i;
         EXPECT_EQ(hits[i].t, single.t) << what << " ray " << i;
-        if (hits[i].primitive != single.primitive) {
+        if (hits[i].primitive == single.primitive) {
+            EXPECT_EQ(hits[i].u, single.u) << what << " ray " << i;
+            EXPECT_EQ(hits[i].v, single.v) << what << " ray " << i;
+        } else {
             // The packet's triangle alone, at the same distance.
             if (hits[i].primitive >= accel.scene().triangles.size()) {
                 ADD_FAILURE() << what << " ray " << i << ": primitive " << hits[i].primitive << ", not "
@@ -151,6 +156,15 @@ TEST(AccelPacket, CameraPacketsThroughEdgesAndVerticesDoNotLeak) {
                                       kInfinity});
             std::vector<Hit> hits(packet.size());
             std::vector<float> visibility(packet.size());
+            // The rays along the edges take one leaf together, eight against
+            // a triangle at a time, and answer as their single rays. (Those at
+            // a corner meet several leaves' triangles at distances an ulp
+            // apart, and the box test's rounding may cull another of them in
+            // another traversal order.)
+            std::vector<Ray> along_edges;
+            for (size_t i = 0; i < packet.size(); ++i)
+                if (i % 5 != 0) along_edges.push_back(packet[i]);
+            expect_same_answers(accel, along_edges, to_string(path));
             packets += accel.intersect(packet, hits);
             accel.visibility(packet, visibility);
             for (size_t i = 0; i < packet.size(); ++i) leaks += !hits[i].found() + (visibility[i] != 0.0f);

@@ -5,25 +5,7 @@
 // ray exactly as wide_box_test tests it, so each ray meets the triangles its
 // single-ray traversal would reach and gets the same answer.
 //
-// The eight lanes are GCC vector extensions: AVX2 registers in the AVX2
-// kernels, pairs of SSE2 registers in the generic ones.
-
-typedef float PacketLanes __attribute__((vector_size(32)));
-typedef int32_t PacketMask __attribute__((vector_size(32)));
-
-[[gnu::always_inline]] inline PacketLanes lanes_load(const float* p) {
-    PacketLanes v;
-    __builtin_memcpy(&v, p, sizeof v);
-    return v;
-}
-
-[[gnu::always_inline]] inline PacketLanes lanes_splat(float x) { return PacketLanes{} + x; }
-
-[[gnu::always_inline]] inline uint32_t lanes_bits(PacketMask m) {
-    uint32_t bits = 0;
-    for (uint32_t i = 0; i < 8; ++i) bits |= uint32_t(m[i] != 0) << i;
-    return bits;
-}
+// After packet_lanes.inl and packet_setup.inl.
 
 // Bit i: some ray of the packet may enter child i's box before t_max;
 // t_entry[i] is then a lower bound of where any does (at least 0).

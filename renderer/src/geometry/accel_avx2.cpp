@@ -26,6 +26,8 @@ namespace rt::avx2 {
 #include "bvh/wide_box_test_avx2.inl"
 #include "geometry/triangle_block_test_avx2.inl"
 #include "bvh/wide_traverse.inl"
+#include "bvh/packet_lanes.inl"
+#include "bvh/packet_setup.inl"
 #include "bvh/packet_traverse.inl"
 #include "geometry/accel_kernels.inl"
 

@@ -10,7 +10,7 @@
 #include "geometry/surface_material.h"
 #include "geometry/triangle_block_test.h"
 
-// The packet traversal's 32-byte vectors (packet_traverse.inl) live only in
+// The packet kernels' 32-byte vectors (packet_lanes.inl) live only in
 // inlined functions, so GCC's note that SSE2 code passes them otherwise than
 // AVX code would, which it gives at the end of the file, concerns no call.
 #pragma GCC diagnostic ignored "-Wpsabi"
@@ -29,6 +29,8 @@ template <bool kMoving>
 }
 
 #include "bvh/wide_traverse.inl"
+#include "bvh/packet_lanes.inl"
+#include "bvh/packet_setup.inl"
 #include "bvh/packet_traverse.inl"
 #include "geometry/accel_kernels.inl"
 

@@ -5,51 +5,101 @@
 //
 // Only a still, opaque scene without instances takes the packet path; any
 // other scene, and a packet whose rays do not share their direction signs
-// (PacketRays::from_rays), is traced ray by ray.
+// (load_packet), is traced ray by ray.
 
-// The watertight constants of each ray, made once per packet.
-struct PacketWatertight {
-    alignas(16) unsigned char storage[bvh::kPacketSize][sizeof(WatertightRay4)];
+#include "geometry/triangle_rays_test.inl"
 
-    PacketWatertight(const Ray* rays, uint32_t count) {
-        for (uint32_t i = 0; i < count; ++i) new (storage[i]) WatertightRay4(WatertightRay{rays[i]});
+// A group of eight rays of which fewer than this enter a leaf takes it ray by
+// ray, four triangles a lane: a triangle against eight lanes of mostly
+// absent rays wastes them.
+inline constexpr uint32_t kRaysPerTriangleTest = 6;
+
+// The rays of `in` that take the leaf a triangle at a time, eight rays a test.
+[[gnu::always_inline]] inline uint32_t rays_by_triangle(const PacketShear& s, uint32_t in) {
+    if (!s.shared) return 0;
+    uint32_t by_triangle = 0;
+    for (uint32_t first = 0; first < bvh::kPacketSize; first += 8) {
+        const uint32_t group = in & (0xffu << first);
+        if (uint32_t(__builtin_popcount(group)) >= kRaysPerTriangleTest) by_triangle |= group;
     }
-    const WatertightRay4& operator[](uint32_t i) const {
-        return *std::launder(reinterpret_cast<const WatertightRay4*>(storage[i]));
+    return by_triangle;
+}
+
+// Calls found(ray, triangle, hit lanes' t, u, v, lane) for each ray of `in`
+// that meets a triangle of the leaf nearer than its t_max, triangle after
+// triangle in leaf order, eight rays a test; returns the rays left in `in`
+// (found returns whether the ray leaves the packet).
+template <typename Found>
+[[gnu::always_inline]] inline uint32_t leaf_by_triangle(const AccelData& data, const bvh::PacketRays& p,
+                                                        const PacketShear& s, uint32_t first_block,
+                                                        uint32_t block_count, uint32_t in, Found&& found) {
+    for (uint32_t b = first_block; b < first_block + block_count; ++b) {
+        const TriangleBlock& block = data.blocks[b];
+        for (uint32_t lane = 0; lane < bvh::kBlockWidth; ++lane) {
+            if (!block.lane_used(lane)) continue;
+            const vec3 p0 = block.vertex(lane, 0), p1 = block.vertex(lane, 1), p2 = block.vertex(lane, 2);
+            for (uint32_t first = 0; first < p.count; first += 8) {
+                const uint32_t rays = (in >> first) & 0xffu;
+                if (rays == 0) continue;
+                RaysHits hits;
+                for (uint32_t hit = intersect_triangle_rays(p, s, first, rays, p0, p1, p2, hits); hit != 0;
+                     hit &= hit - 1) {
+                    const uint32_t l = uint32_t(__builtin_ctz(hit));
+                    if (found(first + l, block.triangle(lane), hits.t[l], hits.u[l], hits.v[l]))
+                        in &= ~(1u << (first + l));
+                }
+                if (in == 0) return 0;
+            }
+        }
     }
-};
-static_assert(std::is_trivially_destructible_v<WatertightRay4>);
+    return in;
+}
 
 // A still, opaque world tree only: the caller checks.
-[[gnu::flatten]] inline void closest_packet(const AccelData& data, bvh::PacketRays& p, const Ray* rays, Hit* hits) {
-    const PacketWatertight watertight(rays, p.count);
+[[gnu::flatten]] inline void closest_packet(const AccelData& data, bvh::PacketRays& p, Hit* hits) {
+    const PacketShear shear(p);
     SilentObserver none;
     traverse_packet<bvh::Query::closest_hit>(data.bvh, p, (1u << p.count) - 1, [&](uint32_t first_block,
                                                                                uint32_t block_count, uint32_t in) {
         prefetch_blocks<false>(data, bvh::ChildRef::leaf(first_block, block_count));
+        if (const uint32_t by_triangle = rays_by_triangle(shear, in)) {
+            // The test's t < t_max is strict and sees each hit lower t_max:
+            // among equal distances the first triangle wins, as ray by ray.
+            leaf_by_triangle(data, p, shear, first_block, block_count, by_triangle,
+                             [&](uint32_t r, uint32_t triangle, float t, float u, float v) {
+                                 p.t_max[r] = t;
+                                 hits[r] = {t, triangle, u, v};
+                                 return false;
+                             });
+            in &= ~by_triangle;
+        }
         for (; in != 0; in &= in - 1) {
             const uint32_t r = uint32_t(__builtin_ctz(in));
-            closest_in_leaf<false, false>(data, watertight[r], first_block, block_count, 0.0f, p.t_max[r], hits[r],
-                                          none);
+            closest_in_leaf<false, false>(data, WatertightRay4(shear.ray(r)), first_block, block_count, 0.0f,
+                                          p.t_max[r], hits[r], none);
         }
     });
 }
 
 // Returns the rays (a mask of those in `active`) an opaque triangle stops.
-[[gnu::flatten]] inline uint32_t occluded_packet(const AccelData& data, bvh::PacketRays& p, const Ray* rays,
-                                                 uint32_t active) {
-    const PacketWatertight watertight(rays, p.count);
+[[gnu::flatten]] inline uint32_t occluded_packet(const AccelData& data, bvh::PacketRays& p, uint32_t active) {
+    const PacketShear shear(p);
     SilentObserver none;
     uint32_t stopped = 0;
     traverse_packet<bvh::Query::any_hit>(data.bvh, p, active, [&](uint32_t first_block, uint32_t block_count,
                                                                   uint32_t in) {
         prefetch_blocks<false>(data, bvh::ChildRef::leaf(first_block, block_count));
         uint32_t stopped_here = 0;
+        if (const uint32_t by_triangle = rays_by_triangle(shear, in)) {
+            stopped_here = by_triangle & ~leaf_by_triangle(data, p, shear, first_block, block_count, by_triangle,
+                                                           [](uint32_t, uint32_t, float, float, float) { return true; });
+            in &= ~by_triangle;
+        }
         for (; in != 0; in &= in - 1) {
             const uint32_t r = uint32_t(__builtin_ctz(in));
             float unused = 1.0f;  // an opaque scene's rays pass or stop
-            if (stopped_in_leaf<false, false>(data, watertight[r], first_block, block_count, 0.0f, p.t_max[r],
-                                              unused, none))
+            if (stopped_in_leaf<false, false>(data, WatertightRay4(shear.ray(r)), first_block, block_count, 0.0f,
+                                              p.t_max[r], unused, none))
                 stopped_here |= 1u << r;
         }
         stopped |= stopped_here;
@@ -65,18 +115,21 @@ inline bool packet_path(const AccelScene& accel) {
 
 bool intersect_packet_with(const AccelScene& accel, const Ray* rays, uint32_t count, Hit* hits) {
     bvh::PacketRays p;
-    if (count < 2 || !packet_path(accel) || !p.from_rays(rays, count)) {
+    if (count < 2 || !packet_path(accel) || !load_packet(p, rays, count)) {
         for (uint32_t i = 0; i < count; ++i) intersect_with(accel, rays[i], hits[i], SilentObserver{});
         return false;
     }
-    for (uint32_t i = 0; i < count; ++i) p.t_max[i] = nearest_sphere(*accel.scene, rays[i], hits[i]).t_max;
-    closest_packet(accel.world, p, rays, hits);
+    if (accel.scene->spheres.empty())
+        std::fill_n(hits, count, Hit{});
+    else
+        for (uint32_t i = 0; i < count; ++i) p.t_max[i] = nearest_sphere(*accel.scene, rays[i], hits[i]).t_max;
+    closest_packet(accel.world, p, hits);
     return true;
 }
 
 bool visibility_packet_with(const AccelScene& accel, const Ray* rays, uint32_t count, float* visibility) {
     bvh::PacketRays p;
-    if (count < 2 || !packet_path(accel) || !p.from_rays(rays, count)) {
+    if (count < 2 || !packet_path(accel) || !load_packet(p, rays, count)) {
         for (uint32_t i = 0; i < count; ++i) visibility[i] = visibility_with(accel, rays[i], SilentObserver{});
         return false;
     }
@@ -86,7 +139,7 @@ bool visibility_packet_with(const AccelScene& accel, const Ray* rays, uint32_t c
         visibility[i] = blocked ? 0.0f : 1.0f;
         active |= uint32_t(!blocked) << i;
     }
-    for (uint32_t stopped = occluded_packet(accel.world, p, rays, active); stopped != 0; stopped &= stopped - 1)
+    for (uint32_t stopped = occluded_packet(accel.world, p, active); stopped != 0; stopped &= stopped - 1)
         visibility[__builtin_ctz(stopped)] = 0.0f;
     return true;
 }

@@ -21,6 +21,7 @@ struct WatertightRay {
     int kx, ky, kz;   // axis permutation: kz is the direction's largest axis
     float sx, sy, sz; // shear coefficients
 
+    WatertightRay() = default;
     explicit WatertightRay(const Ray& ray) : origin(ray.origin) {
         const vec3 d = ray.direction;
         kz = max_dimension(glm::abs(d));
