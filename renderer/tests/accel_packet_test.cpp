@@ -11,6 +11,8 @@
 
 #include "geometry/accel.h"
 #include "geometry/brute_force.h"
+#include "geometry/spawn.h"
+#include "geometry/surface.h"
 #include "integrator/camera.h"
 #include "integrator/default_camera.h"
 #include "test_meshes.h"
@@ -172,6 +174,84 @@ TEST(AccelPacket, CameraPacketsThroughEdgesAndVerticesDoNotLeak) {
         EXPECT_EQ(leaks, 0) << to_string(path);
         // Triangles whose rays run both ways along some axis go ray by ray.
         EXPECT_GT(packets, int(scene.triangles.size()) / 3) << "many triangles' rays make packets";
+    }
+}
+
+// Shadow rays from the hits of one camera packet towards one point: each
+// packet's visibility, and whether it was traced as a packet.
+struct ShadowPackets {
+    std::vector<std::vector<Ray>> packets;
+};
+
+ShadowPackets shadow_packets(const Accelerator& accel, uint32_t size, vec3 light) {
+    ShadowPackets shadows;
+    for (const std::vector<Ray>& camera : camera_packets(accel.scene(), size)) {
+        std::vector<Ray>& packet = shadows.packets.emplace_back();
+        for (const Ray& ray : camera) {
+            Hit hit;
+            if (!accel.intersect(ray, hit)) continue;
+            const SurfaceHit s = surface_at(accel.scene(), ray, hit);
+            packet.push_back(spawn_ray_to(s.p, s.p_error, s.ng, light, s.time));
+        }
+    }
+    return shadows;
+}
+
+TEST(AccelPacket, ShadowPacketsTowardsOneLightAnswerAsSingleRays) {
+    // Rays from many points to one: the frustum around them culls nodes for
+    // the packet, and each ray meets the leaves its own box test enters.
+    const Scene scene = sample_scene("bunny.glb");
+    const Bounds3 box = scene.bounds();
+    const vec3 light(box.center().x + 0.3f * box.extent().x, box.max.y + 2.0f * box.extent().y, box.center().z);
+    for (SimdPath path : paths()) {
+        const Accelerator accel(scene, 1, path);
+        size_t as_packets = 0, blocked = 0, rays = 0, with_rays = 0;
+        for (const std::vector<Ray>& packet : shadow_packets(accel, 128, light).packets) {
+            if (packet.empty()) continue;
+            ++with_rays;
+            std::vector<float> visibility(packet.size());
+            as_packets += accel.visibility(packet, visibility);
+            for (size_t i = 0; i < packet.size(); ++i) {
+                EXPECT_EQ(visibility[i], accel.visibility(packet[i])) << to_string(path) << " ray " << rays;
+                blocked += visibility[i] == 0.0f;
+                ++rays;
+            }
+        }
+        EXPECT_GT(blocked, rays / 20) << "the bunny shadows part of itself and the ground";
+        EXPECT_LT(blocked, rays) << "and the light sees the rest";
+        EXPECT_GT(as_packets, with_rays / 2) << to_string(path) << ": most such packets are thin pyramids";
+    }
+}
+
+TEST(AccelPacket, ShadowPacketsThroughEdgesAndVerticesDoNotLeak) {
+    // From just inside a closed mesh towards a far light, each packet's rays
+    // cross one triangle's corners and edges, which it shares: every ray is
+    // blocked, through the by-triangle leaf test as through single rays.
+    const Scene scene = icosphere(3);
+    const vec3 light(0.3f, 0.2f, 40.0f);
+    for (SimdPath path : paths()) {
+        const Accelerator accel(scene, 1, path);
+        int leaks = 0, packets = 0;
+        for (const uvec3& t : scene.triangles) {
+            // Triangles that face the light, so that no ray grazes the mesh.
+            const vec3 centre = (scene.positions[t[0]] + scene.positions[t[1]] + scene.positions[t[2]]) / 3.0f;
+            if (glm::dot(normalize(light - centre), normalize(centre)) < 0.5f) continue;
+            std::vector<Ray> packet;
+            for (int k = 0; k < 3; ++k)
+                for (float s : {0.0f, 0.25f, 0.5f, 0.75f, 1.0f / 3.0f}) {
+                    const vec3 on_edge = glm::mix(scene.positions[t[k]], scene.positions[t[(k + 1) % 3]], s);
+                    const vec3 origin = on_edge + 0.1f * normalize(on_edge - light);
+                    packet.push_back({origin, normalize(light - origin), glm::length(light - origin)});
+                }
+            std::vector<float> visibility(packet.size());
+            packets += accel.visibility(packet, visibility);
+            for (size_t i = 0; i < packet.size(); ++i) {
+                leaks += visibility[i] != 0.0f;
+                EXPECT_EQ(visibility[i], accel.visibility(packet[i])) << to_string(path);
+            }
+        }
+        EXPECT_EQ(leaks, 0) << to_string(path);
+        EXPECT_GT(packets, int(scene.triangles.size()) / 8) << to_string(path) << ": the far light's packets";
     }
 }
 

@@ -3,11 +3,20 @@
 // Setting a packet up ray by ray (a division and a comparison chain per ray
 // and axis) took a third of a camera packet's time on the dragons.
 
-// False when the interval test would not bound the rays, or not tightly:
-// they share neither their origin nor their direction, differ in some
-// direction sign, spread their reciprocals past kMaxSpread, or have one that
-// is infinite. Such packets go ray by ray.
-[[gnu::always_inline]] inline bool load_packet(bvh::PacketRays& p, const Ray* rays, uint32_t n) {
+// What a packet's rays allow, as load_packet finds them.
+enum class PacketLoad {
+    // Some ray has an infinite origin or direction reciprocal: ray by ray.
+    refused,
+    // Each ray's constants are set, but the intervals would not bound the
+    // rays, or not tightly: they share neither their origin nor their
+    // direction, differ in some direction sign, or spread their reciprocals
+    // past kMaxSpread. A frustum may still bound them (packet_frustum.inl).
+    rays,
+    // The interval test bounds them too.
+    intervals,
+};
+
+[[gnu::always_inline]] inline PacketLoad load_packet(bvh::PacketRays& p, const Ray* rays, uint32_t n) {
     p.count = n;
     for (uint32_t i = 0; i < bvh::kPacketSize; ++i) {
         const Ray& ray = rays[i < n ? i : 0];
@@ -42,17 +51,17 @@
             inv_high[axis] = first == 0 ? inv : lanes_max(inv_high[axis], inv);
         }
     }
-    if (lanes_bits(usable) != 0xffu || (lanes_bits(same_origin) != 0xffu && lanes_bits(same_direction) != 0xffu))
-        return false;
+    if (lanes_bits(usable) != 0xffu) return PacketLoad::refused;
+    if (lanes_bits(same_origin) != 0xffu && lanes_bits(same_direction) != 0xffu) return PacketLoad::rays;
     for (int axis = 0; axis < 3; ++axis) {
         const float low = lanes_low(inv_low[axis]), high = lanes_high(inv_high[axis]);
         const bool negative = high < 0.0f;
-        if (!negative && low < 0.0f) return false;
+        if (!negative && low < 0.0f) return PacketLoad::rays;
         // The product's bounds grow with the reciprocals' spread: where a
         // direction component nears 0 it can span decades, and the packet
         // would enter every box along the other axes.
         const float spread = negative ? low / high : high / low;
-        if (!(spread <= bvh::PacketRays::kMaxSpread)) return false;
+        if (!(spread <= bvh::PacketRays::kMaxSpread)) return PacketLoad::rays;
         p.inv_low[axis] = low, p.inv_high[axis] = high;
         constexpr uint32_t kUpper = 3 * bvh::kWideWidth;
         p.near_row[axis] = uint32_t(axis) * bvh::kWideWidth + (negative ? kUpper : 0);
@@ -62,5 +71,5 @@
         p.near_origin[axis] = negative ? lanes_low(o_low[axis]) : lanes_high(o_high[axis]);
         p.far_origin[axis] = negative ? lanes_high(o_high[axis]) : lanes_low(o_low[axis]);
     }
-    return true;
+    return PacketLoad::intervals;
 }

@@ -32,10 +32,12 @@
 }
 
 // Which of the rays in `rays` enter child `slot`'s box before their own
-// t_max: wide_box_test's operations in its order, eight rays a pass.
+// t_max: wide_box_test's operations in its order, eight rays a pass. Each
+// ray's entry plane is the one it meets first, whichever way it runs: with a
+// finite reciprocal (load_packet checks) the two distances are ordered as
+// the ray's own choice of planes orders them, bit for bit.
 [[gnu::always_inline]] inline uint32_t rays_entering(const bvh::WideNode& node, uint32_t slot,
                                                      const bvh::PacketRays& p, uint32_t rays) {
-    const float* rows = node.lower[0];
     uint32_t entering = 0;
     for (uint32_t first = 0; first < p.count; first += 8) {
         if (((rays >> first) & 0xffu) == 0) continue;
@@ -45,9 +47,10 @@
         for (int axis = 0; axis < 3; ++axis) {
             const PacketLanes origin = lanes_load(p.origin[axis] + first);
             const PacketLanes inv = lanes_load(p.inv_direction[axis] + first);
-            const PacketLanes t_near = (lanes_splat(rows[p.near_row[axis] + slot]) - origin) * inv;
-            const PacketLanes t_far =
-                ((lanes_splat(rows[p.far_row[axis] + slot]) - origin) * inv) * lanes_splat(bvh::kExitScale);
+            const PacketLanes t_lower = (lanes_splat(node.lower[axis][slot]) - origin) * inv;
+            const PacketLanes t_upper = (lanes_splat(node.upper[axis][slot]) - origin) * inv;
+            const PacketLanes t_near = lanes_min(t_lower, t_upper);
+            const PacketLanes t_far = lanes_max(t_lower, t_upper) * lanes_splat(bvh::kExitScale);
             enter = t_near > enter ? t_near : enter;
             exit = t_far < exit ? t_far : exit;
         }
@@ -70,13 +73,16 @@ struct PacketPending {
     return reach;
 }
 
-// leaf_test(first_block, block_count, rays) tests the leaf's primitives
-// against the rays (a mask) that enter its box. A closest-hit test lowers
-// their p.t_max to the hits it finds; an any-hit test returns the rays it
-// stopped, which leave the packet. Starts with the rays in `active`.
-template <bvh::Query query, typename LeafTest>
+// node_test(node, reach, t_entry) says which children some ray of the
+// packet may enter before `reach`, with lower bounds of where in t_entry
+// (packet_box_test, or frustum_box_test with zeros). leaf_test(first_block,
+// block_count, rays) tests the leaf's primitives against the rays (a mask)
+// that enter its box. A closest-hit test lowers their p.t_max to the hits it
+// finds; an any-hit test returns the rays it stopped, which leave the packet.
+// Starts with the rays in `active`.
+template <bvh::Query query, typename NodeTest, typename LeafTest>
 [[gnu::always_inline]] inline void traverse_packet(const bvh::WideBvh& bvh, bvh::PacketRays& p, uint32_t active,
-                                                   LeafTest&& leaf_test) {
+                                                   NodeTest&& node_test, LeafTest&& leaf_test) {
     if (bvh.empty() || active == 0) return;
     const auto no_prefetch = [](bvh::ChildRef) {};
     float reach = packet_reach(p, active);
@@ -88,7 +94,7 @@ template <bvh::Query query, typename LeafTest>
         if (!ref.is_leaf()) {
             const bvh::WideNode& node = bvh.nodes[ref.node()];
             alignas(32) float t_entry[bvh::kWideWidth];
-            uint32_t hits = packet_box_test(node, p, reach, t_entry);
+            uint32_t hits = node_test(node, reach, t_entry);
             if (hits != 0) {
                 // Farthest first onto the stack, the nearest taken now (any-hit: by slot,
                 // as a single ray's any-hit query takes them).

@@ -59,8 +59,12 @@ template <typename Found>
 [[gnu::flatten]] inline void closest_packet(const AccelData& data, bvh::PacketRays& p, Hit* hits) {
     const PacketShear shear(p);
     SilentObserver none;
-    traverse_packet<bvh::Query::closest_hit>(data.bvh, p, (1u << p.count) - 1, [&](uint32_t first_block,
-                                                                               uint32_t block_count, uint32_t in) {
+    const auto intervals = [&](const bvh::WideNode& node, float reach, float* t_entry) {
+        return packet_box_test(node, p, reach, t_entry);
+    };
+    traverse_packet<bvh::Query::closest_hit>(data.bvh, p, (1u << p.count) - 1, intervals, [&](uint32_t first_block,
+                                                                                          uint32_t block_count,
+                                                                                          uint32_t in) {
         prefetch_blocks<false>(data, bvh::ChildRef::leaf(first_block, block_count));
         if (const uint32_t by_triangle = rays_by_triangle(shear, in)) {
             // The test's t < t_max is strict and sees each hit lower t_max:
@@ -82,12 +86,15 @@ template <typename Found>
 }
 
 // Returns the rays (a mask of those in `active`) an opaque triangle stops.
-[[gnu::flatten]] inline uint32_t occluded_packet(const AccelData& data, bvh::PacketRays& p, uint32_t active) {
+// node_test: traverse_packet's.
+template <typename NodeTest>
+[[gnu::flatten]] inline uint32_t occluded_packet(const AccelData& data, bvh::PacketRays& p, uint32_t active,
+                                                 NodeTest&& node_test) {
     const PacketShear shear(p);
     SilentObserver none;
     uint32_t stopped = 0;
-    traverse_packet<bvh::Query::any_hit>(data.bvh, p, active, [&](uint32_t first_block, uint32_t block_count,
-                                                                  uint32_t in) {
+    traverse_packet<bvh::Query::any_hit>(data.bvh, p, active, node_test, [&](uint32_t first_block,
+                                                                             uint32_t block_count, uint32_t in) {
         prefetch_blocks<false>(data, bvh::ChildRef::leaf(first_block, block_count));
         uint32_t stopped_here = 0;
         if (const uint32_t by_triangle = rays_by_triangle(shear, in)) {
@@ -115,7 +122,7 @@ inline bool packet_path(const AccelScene& accel) {
 
 bool intersect_packet_with(const AccelScene& accel, const Ray* rays, uint32_t count, Hit* hits) {
     bvh::PacketRays p;
-    if (count < 2 || !packet_path(accel) || !load_packet(p, rays, count)) {
+    if (count < 2 || !packet_path(accel) || load_packet(p, rays, count) != PacketLoad::intervals) {
         for (uint32_t i = 0; i < count; ++i) intersect_with(accel, rays[i], hits[i], SilentObserver{});
         return false;
     }
@@ -127,9 +134,13 @@ bool intersect_packet_with(const AccelScene& accel, const Ray* rays, uint32_t co
     return true;
 }
 
+// Packets the intervals bound (a camera's, an orthographic one's) take the
+// interval test; shadow rays towards one light take the frustum's.
 bool visibility_packet_with(const AccelScene& accel, const Ray* rays, uint32_t count, float* visibility) {
     bvh::PacketRays p;
-    if (count < 2 || !packet_path(accel) || !load_packet(p, rays, count)) {
+    PacketFrustum frustum;
+    const PacketLoad load = count < 2 || !packet_path(accel) ? PacketLoad::refused : load_packet(p, rays, count);
+    if (load == PacketLoad::refused || (load == PacketLoad::rays && !make_frustum(frustum, p))) {
         for (uint32_t i = 0; i < count; ++i) visibility[i] = visibility_with(accel, rays[i], SilentObserver{});
         return false;
     }
@@ -139,7 +150,16 @@ bool visibility_packet_with(const AccelScene& accel, const Ray* rays, uint32_t c
         visibility[i] = blocked ? 0.0f : 1.0f;
         active |= uint32_t(!blocked) << i;
     }
-    for (uint32_t stopped = occluded_packet(accel.world, p, active); stopped != 0; stopped &= stopped - 1)
-        visibility[__builtin_ctz(stopped)] = 0.0f;
+    uint32_t stopped;
+    if (load == PacketLoad::intervals)
+        stopped = occluded_packet(accel.world, p, active, [&](const bvh::WideNode& node, float reach, float* t_entry) {
+            return packet_box_test(node, p, reach, t_entry);
+        });
+    else
+        stopped = occluded_packet(accel.world, p, active, [&](const bvh::WideNode& node, float, float* t_entry) {
+            std::fill_n(t_entry, bvh::kWideWidth, 0.0f);
+            return frustum_box_test(node, frustum);
+        });
+    for (; stopped != 0; stopped &= stopped - 1) visibility[__builtin_ctz(stopped)] = 0.0f;
     return true;
 }
