@@ -25,7 +25,7 @@ struct Built {
     bvh::WideBvh wide;
 };
 
-Built build_wide(const Scene& scene, unsigned threads = 1, uint32_t merge_limit = bvh::kBlockWidth) {
+Built build_wide(const Scene& scene, unsigned threads = 1, uint32_t max_leaf_prims = bvh::kBlockWidth) {
     Built built;
     std::vector<vec3> centroids;
     for (const uvec3& t : scene.triangles) {
@@ -36,7 +36,10 @@ Built build_wide(const Scene& scene, unsigned threads = 1, uint32_t merge_limit 
     }
     bvh::BuildOptions options;
     options.threads = threads;
-    built.wide = bvh::collapse_to_wide(bvh::build_binned_sah(built.bounds, centroids, options), built.bounds, merge_limit);
+    bvh::CollapseOptions collapse;
+    collapse.max_leaf_prims = max_leaf_prims;
+    collapse.threads = threads;
+    built.wide = bvh::collapse_to_wide(bvh::build_binned_sah(built.bounds, centroids, options), built.bounds, collapse);
     return built;
 }
 
