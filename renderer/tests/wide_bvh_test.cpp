@@ -186,6 +186,24 @@ TEST(TriangleBlock, TheFourLaneTestIsTheScalarTestBitForBit) {
     }
 }
 
+// Many blocks are filled on several threads, each a run of its own: the same
+// blocks, byte for byte, as on one.
+TEST(TriangleBlock, BlocksFilledOnSeveralThreadsAreTheSame) {
+    const Scene scene = random_soup(50000, 6);
+    std::vector<uint32_t> ids(scene.triangles.size());
+    for (uint32_t i = 0; i < ids.size(); ++i) ids[i] = (i * 7919u) % uint32_t(ids.size());
+    ids.insert(ids.end(), {bvh::kNoPrim, bvh::kNoPrim});
+    while (ids.size() % bvh::kBlockWidth != 0) ids.push_back(bvh::kNoPrim);
+    std::vector<uint8_t> alpha(scene.triangles.size());
+    for (size_t i = 0; i < alpha.size(); i += 3) alpha[i] = 1;
+    const std::vector<TriangleBlock> one = make_triangle_blocks(ids, scene.positions, scene.triangles, alpha, 1);
+    for (unsigned threads : {2u, 3u}) {
+        const std::vector<TriangleBlock> many = make_triangle_blocks(ids, scene.positions, scene.triangles, alpha, threads);
+        ASSERT_EQ(one.size(), many.size());
+        EXPECT_EQ(std::memcmp(one.data(), many.data(), one.size() * sizeof(TriangleBlock)), 0) << threads << " threads";
+    }
+}
+
 bool same_bits(const Hit& a, const Hit& b) {
     return a.primitive == b.primitive && std::memcmp(&a.t, &b.t, sizeof(float)) == 0 &&
            std::memcmp(&a.u, &b.u, sizeof(float)) == 0 && std::memcmp(&a.v, &b.v, sizeof(float)) == 0;

@@ -6,6 +6,7 @@
 
 #include "bvh/binned_sah_builder.h"
 #include "bvh/wide_collapse.h"
+#include "util/parallel_runs.h"
 #include "util/thread_pool.h"
 
 namespace rt {
@@ -26,6 +27,8 @@ constexpr uint32_t kWideLeafSize = 2 * bvh::kBlockWidth;
 // few percent faster than at one (which Embree's SAH statistics assume, and
 // by which the tree then costs some 1% more, still under Embree's).
 constexpr float kCollapseNodeCost = 2.0f;
+// Below this many triangles their boxes are not worth a thread of their own.
+constexpr size_t kMinTrianglesPerThread = 16384;
 // For the wide tree's SAH (AccelStats): one eight-box test, one four-triangle block test.
 constexpr double kWideNodeCost = 1.0;
 constexpr double kBlockCost = 1.0;
@@ -61,18 +64,20 @@ AccelData build_tree(const Scene& scene, size_t first, size_t count, unsigned th
     std::vector<Bounds3> triangle_bounds(count), open_bounds, close_bounds;
     std::vector<vec3> centroids(count);
     if (moving) open_bounds.resize(count), close_bounds.resize(count);
-    for (size_t i = 0; i < count; ++i) {
-        const uvec3 tri = scene.triangles[first + i];
-        Bounds3 b;
-        for (int k = 0; k < 3; ++k) b.extend(scene.positions[tri[k]]);
-        if (moving) {
-            open_bounds[i] = b;
-            for (int k = 0; k < 3; ++k) close_bounds[i].extend(scene.positions_close[tri[k]]);
-            b.extend(close_bounds[i]);
+    parallel_runs(threads, count, kMinTrianglesPerThread, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            const uvec3 tri = scene.triangles[first + i];
+            Bounds3 b;
+            for (int k = 0; k < 3; ++k) b.extend(scene.positions[tri[k]]);
+            if (moving) {
+                open_bounds[i] = b;
+                for (int k = 0; k < 3; ++k) close_bounds[i].extend(scene.positions_close[tri[k]]);
+                b.extend(close_bounds[i]);
+            }
+            triangle_bounds[i] = b;
+            centroids[i] = b.center();
         }
-        triangle_bounds[i] = b;
-        centroids[i] = b.center();
-    }
+    });
     bvh::BuildOptions options;
     options.traversal_cost = kTraversalCost;
     options.threads = threads;
@@ -97,9 +102,9 @@ AccelData build_tree(const Scene& scene, size_t first, size_t count, unsigned th
             alpha[i] = scene.materials[scene.triangle_materials[i]].alpha_mode != AlphaMode::Opaque;
     }
     data.moving = moving;
-    data.blocks = make_triangle_blocks(data.bvh.prim_ids, scene.positions, scene.triangles, alpha);
+    data.blocks = make_triangle_blocks(data.bvh.prim_ids, scene.positions, scene.triangles, alpha, threads);
     if (data.moving)
-        data.blocks_motion = make_motion_blocks(data.blocks, data.bvh.prim_ids, scene.positions_close, scene.triangles);
+        data.blocks_motion = make_motion_blocks(data.blocks, data.bvh.prim_ids, scene.positions_close, scene.triangles, threads);
     data.bvh.prim_ids = {};
 
     stats.nodes += data.bvh.nodes.size();
