@@ -10,18 +10,22 @@ namespace rt::bvh {
 namespace {
 
 // A child's box as the tree keeps it: widened by a few ulps of its largest
-// coordinate. The watertight triangle test works relative to the ray's
-// origin and finds hits up to a rounding error outside the triangle's box: a
-// ray started just short of a cube's edge and aimed at it crosses the face's
-// plane a hair beyond the edge and still hits the face. A box flat on that
-// face (a leaf of the face's two triangles, as the SAH collapse makes them)
-// would cull it. A parent's box is at least as large as its children's, so it
-// is widened as much and still holds theirs; refit_motion widens moving
-// boxes alike.
+// side, along every axis it is not flat on. The watertight triangle test
+// finds hits up to a rounding error (of the triangle's size, for a ray
+// starting near it) beyond the triangle's edges: a ray started just short of
+// a cube's edge and aimed at it crosses the face's plane a hair past the edge
+// and still hits the face. An exact box, whose side lies on that edge (a leaf
+// of the face's two triangles, as the SAH collapse makes them), would cull
+// it. Not along a flat axis, where every hit lies in the plane itself: the
+// ground quad's box would otherwise take in every shadow ray leaving the
+// ground (25% slower shadow rays on the dragons). A parent is at least as
+// large as its children and flat only where they are, so it still holds them.
 Bounds3 widened(const Bounds3& b) {
-    const float magnitude = max_component(glm::max(glm::abs(b.min), glm::abs(b.max)));
-    const vec3 pad(2.0f * gamma_bound(3) * magnitude);
-    return {b.min - pad, b.max + pad};
+    const vec3 extent = b.max - b.min;
+    const float pad = 2.0f * gamma_bound(3) * max_component(extent);
+    vec3 widening;
+    for (int axis = 0; axis < 3; ++axis) widening[axis] = extent[axis] > 0.0f ? pad : 0.0f;
+    return {b.min - widening, b.max + widening};
 }
 
 class Collapser {
