@@ -25,7 +25,7 @@ struct Built {
     bvh::WideBvh wide;
 };
 
-Built build_wide(const Scene& scene, unsigned threads = 1, uint32_t merge_limit = bvh::kBlockWidth) {
+Built build_wide(const Scene& scene, unsigned threads = 1, uint32_t max_leaf_prims = bvh::kBlockWidth) {
     Built built;
     std::vector<vec3> centroids;
     for (const uvec3& t : scene.triangles) {
@@ -36,7 +36,10 @@ Built build_wide(const Scene& scene, unsigned threads = 1, uint32_t merge_limit 
     }
     bvh::BuildOptions options;
     options.threads = threads;
-    built.wide = bvh::collapse_to_wide(bvh::build_binned_sah(built.bounds, centroids, options), built.bounds, merge_limit);
+    bvh::CollapseOptions collapse;
+    collapse.max_leaf_prims = max_leaf_prims;
+    collapse.threads = threads;
+    built.wide = bvh::collapse_to_wide(bvh::build_binned_sah(built.bounds, centroids, options), built.bounds, collapse);
     return built;
 }
 
@@ -180,6 +183,24 @@ TEST(TriangleBlock, TheFourLaneTestIsTheScalarTestBitForBit) {
             }
         }
         EXPECT_GT(lanes_hit, 100u);
+    }
+}
+
+// Many blocks are filled on several threads, each a run of its own: the same
+// blocks, byte for byte, as on one.
+TEST(TriangleBlock, BlocksFilledOnSeveralThreadsAreTheSame) {
+    const Scene scene = random_soup(50000, 6);
+    std::vector<uint32_t> ids(scene.triangles.size());
+    for (uint32_t i = 0; i < ids.size(); ++i) ids[i] = (i * 7919u) % uint32_t(ids.size());
+    ids.insert(ids.end(), {bvh::kNoPrim, bvh::kNoPrim});
+    while (ids.size() % bvh::kBlockWidth != 0) ids.push_back(bvh::kNoPrim);
+    std::vector<uint8_t> alpha(scene.triangles.size());
+    for (size_t i = 0; i < alpha.size(); i += 3) alpha[i] = 1;
+    const std::vector<TriangleBlock> one = make_triangle_blocks(ids, scene.positions, scene.triangles, alpha, 1);
+    for (unsigned threads : {2u, 3u}) {
+        const std::vector<TriangleBlock> many = make_triangle_blocks(ids, scene.positions, scene.triangles, alpha, threads);
+        ASSERT_EQ(one.size(), many.size());
+        EXPECT_EQ(std::memcmp(one.data(), many.data(), one.size() * sizeof(TriangleBlock)), 0) << threads << " threads";
     }
 }
 

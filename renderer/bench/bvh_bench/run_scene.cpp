@@ -187,6 +187,8 @@ MemoryResult measure_memory(const Scene& scene, const Accelerator& accel, const 
         m.ours_mesh_sah = embree_formula_sah(mesh_accel.wide_bvh());
         const VerboseEmbree embree_mesh = verbose_embree(device, *mesh, RTC_BUILD_QUALITY_HIGH);
         if (const EmbreeBvhStats* bvh = embree_mesh.report.triangles()) m.embree_mesh_sah = bvh->sah;
+        const VerboseEmbree medium_mesh = verbose_embree(device, *mesh, RTC_BUILD_QUALITY_MEDIUM);
+        if (const EmbreeBvhStats* bvh = medium_mesh.report.triangles()) m.embree_medium_mesh_sah = bvh->sah;
     }
     return m;
 }

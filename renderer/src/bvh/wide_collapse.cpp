@@ -4,28 +4,43 @@
 #include <stdexcept>
 #include <vector>
 
+#include "util/math.h"
+
 namespace rt::bvh {
 namespace {
 
+// A child's box as the tree keeps it: widened by a few ulps of its largest
+// side, along every axis it is not flat on. The watertight triangle test
+// finds hits up to a rounding error (of the triangle's size, for a ray
+// starting near it) beyond the triangle's edges: a ray started just short of
+// a cube's edge and aimed at it crosses the face's plane a hair past the edge
+// and still hits the face. An exact box, whose side lies on that edge (a leaf
+// of the face's two triangles, as the SAH collapse makes them), would cull
+// it. Not along a flat axis, where every hit lies in the plane itself: the
+// ground quad's box would otherwise take in every shadow ray leaving the
+// ground (25% slower shadow rays on the dragons). A parent is at least as
+// large as its children and flat only where they are, so it still holds them.
+Bounds3 widened(const Bounds3& b) {
+    const vec3 extent = b.max - b.min;
+    const float pad = 2.0f * gamma_bound(3) * max_component(extent);
+    vec3 widening;
+    for (int axis = 0; axis < 3; ++axis) widening[axis] = extent[axis] > 0.0f ? pad : 0.0f;
+    return {b.min - widening, b.max + widening};
+}
+
 class Collapser {
   public:
-    Collapser(const Bvh& binary, std::span<const Bounds3> prim_bounds, uint32_t merge_limit)
-        : binary_(binary), prim_bounds_(prim_bounds), merge_limit_(merge_limit) {}
+    Collapser(const Bvh& binary, std::span<const Bounds3> prim_bounds, const CollapseOptions& options)
+        : binary_(binary), prim_bounds_(prim_bounds), plan_(binary, options) {}
 
     WideBvh run() {
         if (binary_.empty()) return std::move(wide_);
-        subtree_prims_ = binary_.subtree_prim_counts();
-        subtree_first_.resize(binary_.nodes.size());
-        for (size_t i = binary_.nodes.size(); i-- > 0;) {
-            const Node& node = binary_.nodes[i];
-            subtree_first_[i] = node.is_leaf() ? node.first_prim() : subtree_first_[node.left_child()];
-        }
-        wide_.nodes.reserve(binary_.nodes.size() / 4 + 1);
-        wide_.prim_ids.reserve(binary_.prim_ids.size() + binary_.prim_ids.size() / 2);
+        wide_.nodes.reserve(binary_.nodes.size() / 8 + 1);
+        wide_.prim_ids.reserve(binary_.prim_ids.size() + binary_.prim_ids.size() / 4);
         wide_.nodes.emplace_back();
         const Node& root = binary_.nodes[0];
         if (root.is_leaf()) {
-            place_leaf(0, 0, root.first_prim(), root.prim_count, root.bounds(), 1);
+            place_leaf(0, 0, root.first_prim(), root.prim_count, widened(root.bounds()), 1);
         } else {
             fill(0, 0, 1);
         }
@@ -33,50 +48,42 @@ class Collapser {
     }
 
   private:
-    // Makes wide node `slot` hold the children of binary inner node `node`,
-    // opened up to kWideWidth of them. `level` is the slot's children's level.
+    // Appends the binary nodes that take `slots` child slots for `node`'s subtree.
+    void gather(uint32_t node, uint32_t slots, uint32_t* out, uint32_t& count) const {
+        while (slots > 1 && plan_.left_slots(node, slots) == 0) --slots;
+        if (slots == 1) {
+            out[count++] = node;
+            return;
+        }
+        const uint32_t k = plan_.left_slots(node, slots);
+        gather(binary_.nodes[node].left_child(), k, out, count);
+        gather(binary_.nodes[node].left_child() + 1, slots - k, out, count);
+    }
+
+    // Makes wide node `slot` hold binary inner node `node`'s subtree as the
+    // plan spreads it over eight slots. `level` is the slot's children's level.
     void fill(uint32_t slot, uint32_t node, uint32_t level) {
         uint32_t children[kWideWidth];
-        uint32_t count = 2;
-        children[0] = binary_.nodes[node].left_child();
-        children[1] = children[0] + 1;
-        while (count < kWideWidth) {
-            // The inner child with the largest box: opening it removes the most
-            // expected box tests.
-            int widest = -1;
-            float widest_area = -1.0f;
-            for (uint32_t c = 0; c < count; ++c) {
-                const Node& child = binary_.nodes[children[c]];
-                const float area = child.bounds().surface_area();
-                if (!leaf_like(children[c]) && area > widest_area) widest = int(c), widest_area = area;
-            }
-            if (widest < 0) break;
-            const uint32_t opened = children[widest];
-            children[widest] = binary_.nodes[opened].left_child();
-            children[count++] = binary_.nodes[opened].left_child() + 1;
-        }
+        uint32_t count = 0;
+        const uint32_t k = plan_.wide_left_slots(node);
+        gather(binary_.nodes[node].left_child(), k, children, count);
+        gather(binary_.nodes[node].left_child() + 1, kWideWidth - k, children, count);
         // A node's inner children are allocated side by side before any of
         // them is filled: the nodes a ray visits after one another then tend
         // to share pages and cache lines.
         uint32_t indices[kWideWidth];
         for (uint32_t c = 0; c < count; ++c) {
-            const Node& child = binary_.nodes[children[c]];
-            if (leaf_like(children[c])) {
-                place_leaf(slot, c, subtree_first_[children[c]], subtree_prims_[children[c]], child.bounds(), level);
+            const uint32_t child = children[c];
+            const Bounds3 bounds = widened(binary_.nodes[child].bounds());
+            if (plan_.is_leaf(child)) {
+                place_leaf(slot, c, plan_.first_prim(child), plan_.prims(child), bounds, level);
             } else {
                 indices[c] = new_node(level);
-                wide_.nodes[slot].set_child(c, ChildRef::inner(indices[c]), child.bounds());
+                wide_.nodes[slot].set_child(c, ChildRef::inner(indices[c]), bounds);
             }
         }
         for (uint32_t c = 0; c < count; ++c)
-            if (!leaf_like(children[c])) fill(indices[c], children[c], level + 1);
-    }
-
-    // A leaf, or a subtree small enough to be tested as one: its primitives
-    // are contiguous, and one block test costs about what the box test of a
-    // node of its few leaves would, before those leaves' own block tests.
-    bool leaf_like(uint32_t node) const {
-        return binary_.nodes[node].is_leaf() || subtree_prims_[node] <= merge_limit_;
+            if (!plan_.is_leaf(children[c])) fill(indices[c], children[c], level + 1);
     }
 
     // Puts binary_.prim_ids[first, first + count) under child c of wide node `slot`.
@@ -97,7 +104,7 @@ class Collapser {
             const uint32_t n = std::min(per_child, first + count - begin);
             Bounds3 b;
             for (uint32_t i = begin; i < begin + n; ++i) b.extend(prim_bounds_[binary_.prim_ids[i]]);
-            place_leaf(index, k, begin, n, b, level + 1);
+            place_leaf(index, k, begin, n, widened(b), level + 1);
         }
     }
 
@@ -105,9 +112,11 @@ class Collapser {
         const size_t block = wide_.prim_ids.size() / kBlockWidth;
         if (block + kMaxLeafBlocks > ChildRef::kMaxBlocks)
             throw std::length_error("BVH: too many primitives for the wide BVH's leaf references");
-        for (uint32_t i = first; i < first + count; ++i) wide_.prim_ids.push_back(binary_.prim_ids[i]);
-        while (wide_.prim_ids.size() % kBlockWidth != 0) wide_.prim_ids.push_back(kNoPrim);
-        return ChildRef::leaf(uint32_t(block), (count + kBlockWidth - 1) / kBlockWidth);
+        const uint32_t blocks = (count + kBlockWidth - 1) / kBlockWidth;
+        wide_.prim_ids.insert(wide_.prim_ids.end(), binary_.prim_ids.begin() + first,
+                              binary_.prim_ids.begin() + first + count);
+        wide_.prim_ids.resize((block + blocks) * kBlockWidth, kNoPrim);
+        return ChildRef::leaf(uint32_t(block), blocks);
     }
 
     uint32_t new_node(uint32_t level) {
@@ -119,16 +128,14 @@ class Collapser {
 
     const Bvh& binary_;
     std::span<const Bounds3> prim_bounds_;
-    uint32_t merge_limit_;
-    std::vector<uint32_t> subtree_prims_;
-    std::vector<uint32_t> subtree_first_;
+    CollapsePlan plan_;
     WideBvh wide_;
 };
 
 }  // namespace
 
-WideBvh collapse_to_wide(const Bvh& binary, std::span<const Bounds3> prim_bounds, uint32_t merge_limit) {
-    return Collapser(binary, prim_bounds, merge_limit).run();
+WideBvh collapse_to_wide(const Bvh& binary, std::span<const Bounds3> prim_bounds, const CollapseOptions& options) {
+    return Collapser(binary, prim_bounds, options).run();
 }
 
 }  // namespace rt::bvh

@@ -6,6 +6,8 @@
 
 #include "bvh/binned_sah_builder.h"
 #include "bvh/wide_collapse.h"
+#include "util/parallel_runs.h"
+#include "util/thread_pool.h"
 
 namespace rt {
 namespace {
@@ -15,10 +17,18 @@ namespace {
 // one. On the dragons' diffuse and shadow rays a few percent faster than
 // pricing single triangles with a step of 2 (bench/bvh_bench).
 constexpr float kTraversalCost = 1.0f;
-// Subtrees of at most this many triangles become one leaf of up to two blocks:
-// on the dragons' diffuse and shadow rays a few percent faster than one block
-// (kBlockWidth), and no faster with three or four (bench/bvh_bench).
-constexpr uint32_t kLeafMergeLimit = 2 * bvh::kBlockWidth;
+// Binary leaves of at most one block: the collapse (collapse_plan.h) then
+// chooses which subtrees to merge into leaves, by the wide tree's SAH.
+constexpr uint32_t kBinaryLeafSize = bvh::kBlockWidth;
+// Wide leaves of up to two blocks: on the dragons' diffuse and shadow rays a
+// few percent faster than one block, and no faster with more (bench/bvh_bench).
+constexpr uint32_t kWideLeafSize = 2 * bvh::kBlockWidth;
+// The collapse prices a wide node at two block tests: the dragons' rays run a
+// few percent faster than at one (which Embree's SAH statistics assume, and
+// by which the tree then costs some 1% more, still under Embree's).
+constexpr float kCollapseNodeCost = 2.0f;
+// Below this many triangles their boxes are not worth a thread of their own.
+constexpr size_t kMinTrianglesPerThread = 16384;
 // For the wide tree's SAH (AccelStats): one eight-box test, one four-triangle block test.
 constexpr double kWideNodeCost = 1.0;
 constexpr double kBlockCost = 1.0;
@@ -54,23 +64,30 @@ AccelData build_tree(const Scene& scene, size_t first, size_t count, unsigned th
     std::vector<Bounds3> triangle_bounds(count), open_bounds, close_bounds;
     std::vector<vec3> centroids(count);
     if (moving) open_bounds.resize(count), close_bounds.resize(count);
-    for (size_t i = 0; i < count; ++i) {
-        const uvec3 tri = scene.triangles[first + i];
-        Bounds3 b;
-        for (int k = 0; k < 3; ++k) b.extend(scene.positions[tri[k]]);
-        if (moving) {
-            open_bounds[i] = b;
-            for (int k = 0; k < 3; ++k) close_bounds[i].extend(scene.positions_close[tri[k]]);
-            b.extend(close_bounds[i]);
+    parallel_runs(threads, count, kMinTrianglesPerThread, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            const uvec3 tri = scene.triangles[first + i];
+            Bounds3 b;
+            for (int k = 0; k < 3; ++k) b.extend(scene.positions[tri[k]]);
+            if (moving) {
+                open_bounds[i] = b;
+                for (int k = 0; k < 3; ++k) close_bounds[i].extend(scene.positions_close[tri[k]]);
+                b.extend(close_bounds[i]);
+            }
+            triangle_bounds[i] = b;
+            centroids[i] = b.center();
         }
-        triangle_bounds[i] = b;
-        centroids[i] = b.center();
-    }
+    });
     bvh::BuildOptions options;
     options.traversal_cost = kTraversalCost;
     options.threads = threads;
     options.leaf_block_size = bvh::kBlockWidth;
-    data.bvh = bvh::collapse_to_wide(bvh::build_binned_sah(triangle_bounds, centroids, options), triangle_bounds, kLeafMergeLimit);
+    options.max_leaf_size = kBinaryLeafSize;
+    bvh::CollapseOptions collapse;
+    collapse.max_leaf_prims = kWideLeafSize;
+    collapse.node_cost = kCollapseNodeCost;
+    collapse.threads = threads;
+    data.bvh = bvh::collapse_to_wide(bvh::build_binned_sah(triangle_bounds, centroids, options), triangle_bounds, collapse);
     if (moving) bvh::refit_motion(data.bvh, open_bounds, close_bounds);
     // The blocks hold scene triangle numbers.
     for (uint32_t& id : data.bvh.prim_ids)
@@ -85,9 +102,9 @@ AccelData build_tree(const Scene& scene, size_t first, size_t count, unsigned th
             alpha[i] = scene.materials[scene.triangle_materials[i]].alpha_mode != AlphaMode::Opaque;
     }
     data.moving = moving;
-    data.blocks = make_triangle_blocks(data.bvh.prim_ids, scene.positions, scene.triangles, alpha);
+    data.blocks = make_triangle_blocks(data.bvh.prim_ids, scene.positions, scene.triangles, alpha, threads);
     if (data.moving)
-        data.blocks_motion = make_motion_blocks(data.blocks, data.bvh.prim_ids, scene.positions_close, scene.triangles);
+        data.blocks_motion = make_motion_blocks(data.blocks, data.bvh.prim_ids, scene.positions_close, scene.triangles, threads);
     data.bvh.prim_ids = {};
 
     stats.nodes += data.bvh.nodes.size();
@@ -147,7 +164,10 @@ bvh::WideBvh build_top(const AccelScene& accel, unsigned threads) {
     bvh::BuildOptions options;
     options.max_leaf_size = 1;
     options.threads = threads;
-    bvh::WideBvh top = bvh::collapse_to_wide(bvh::build_binned_sah(boxes, centroids, options), boxes, 1);
+    bvh::CollapseOptions collapse;
+    collapse.max_leaf_prims = 1;
+    collapse.threads = threads;
+    bvh::WideBvh top = bvh::collapse_to_wide(bvh::build_binned_sah(boxes, centroids, options), boxes, collapse);
     if (moving) bvh::refit_motion(top, open, close);
     for (uint32_t& id : top.prim_ids)
         if (id != bvh::kNoPrim) id = entries[id];
@@ -178,6 +198,10 @@ Accelerator::Accelerator(const Scene& scene, unsigned threads, SimdPath path)
             throw std::invalid_argument("scene: a moving instance in a scene without positions at shutter close");
     }
 
+    // Resolved once: each of the build's parts would otherwise ask the system
+    // for the core count, tens of microseconds each, as long as a whole build
+    // of the Cornell box.
+    threads = resolve_thread_count(threads);
     data_.world = build_tree(scene, 0, scene.world_triangles(), threads, stats_);
     for (const SharedMesh& mesh : scene.meshes)
         data_.meshes.push_back(build_tree(scene, mesh.first_triangle, mesh.triangle_count, threads, stats_));
