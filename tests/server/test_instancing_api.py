@@ -130,7 +130,8 @@ def test_the_debugger_reaches_the_instance_tree_the_ray_entered(client, shared):
                 held.append(tree["instance_name"])
     # The camera aims at node 15, and node 9 stands in front of it on the
     # same line: the tree named for the node that placed it holds the hit.
-    assert held == ["n9"], f"only a visited leaf of node n9's instance, in world space, holds the hit point: {held}"
+    # (Two leaves of its tree may meet at the hit point.)
+    assert set(held) == {"n9"}, f"only visited leaves of node n9's instance, in world space, hold the hit point: {held}"
     root = client.get(f"/api/scenes/{shared['id']}/bvh?level=0&tree={entered[0].get('instance', 0)}").json()
     assert root["total_levels"] >= 1 and len(root["nodes"]) == 1
 
