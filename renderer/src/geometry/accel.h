@@ -81,12 +81,13 @@ class Accelerator {
     bool occluded(const Ray& ray, TraversalRecord& record) const { return visibility(ray, record) == 0.0f; }
 
     // Packets of up to kPacketSize coherent rays, such as a tile's 4 x 4 camera
-    // rays (one origin) or an orthographic beam (one direction): the answers of
-    // the single-ray queries, found with one traversal of the tree
-    // (bvh/packet_rays.h). Other packets (shadow rays from many points), and
-    // scenes that move, have alpha or instances, are traced ray by ray. Returns whether the packet
-    // traversal served them. Throws std::invalid_argument when the spans
-    // differ in size or hold more than kPacketSize rays.
+    // rays (one origin) or an orthographic beam (one direction), and for
+    // visibility also shadow rays towards one light: the answers of the
+    // single-ray queries, found with one traversal of the tree
+    // (bvh/packet_rays.h, bvh/packet_frustum.inl). Other packets, and scenes
+    // that move, have alpha or instances, are traced ray by ray. Returns
+    // whether the packet traversal served them. Throws std::invalid_argument
+    // when the spans differ in size or hold more than kPacketSize rays.
     static constexpr uint32_t kPacketSize = bvh::kPacketSize;
     bool intersect(std::span<const Ray> rays, std::span<Hit> hits) const;
     bool visibility(std::span<const Ray> rays, std::span<float> visibility) const;
