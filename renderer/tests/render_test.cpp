@@ -4,6 +4,8 @@
 
 #include "geometry/accel.h"
 #include "integrator/render.h"
+#include "integrator/default_camera.h"
+#include "test_meshes.h"
 #include "test_scenes.h"
 
 namespace rt {
@@ -100,6 +102,32 @@ TEST(Render, SameImageForAnyTilingAndThreadCountWithManySamples) {
         }
         if (threshold == 0.0f) EXPECT_EQ(reference_stats.samples, uint64_t(48) * 37 * 23);
         else EXPECT_LT(reference_stats.samples, uint64_t(48) * 37 * 23);
+    }
+}
+
+// The colour alone of a still mesh goes through camera packets
+// (render_packet); asking for an auxiliary layer takes each pixel's rays one
+// by one (render_pixel). Both give the same colours, bit for bit, and count
+// the same samples and rays, with one sample, many, and adaptive stopping,
+// for tiles that cut the 4 x 4 packets anywhere.
+TEST(Render, CameraPacketsGiveTheImageOfSingleRays) {
+    const Scene scene = sample_scene("dragon_4.glb");
+    const Accelerator accel(scene, 2);
+    ASSERT_TRUE(accel.packets_serve());
+    for (auto [samples, threshold] : {std::pair{1u, 0.0f}, std::pair{8u, 0.0f}, std::pair{32u, 0.3f}}) {
+        RenderSettings settings = make_settings(61, 45);
+        settings.set_samples_per_pixel(samples);
+        settings.set_adaptive_threshold(threshold);
+        const Renderer renderer(accel, settings, default_camera(scene));
+        RenderStats single_stats;
+        AuxImage aux(61, 45, {DEPTH});
+        const Image single = renderer.render(2, 16, nullptr, single_stats, &aux);
+        for (uint32_t tile : {16u, 7u, 1000u}) {
+            RenderStats stats;
+            EXPECT_EQ(renderer.render(2, tile, nullptr, stats).rgb, single.rgb) << samples << " spp, tile " << tile;
+            EXPECT_EQ(stats.samples, single_stats.samples);
+            EXPECT_EQ(stats.rays.total(), single_stats.rays.total());
+        }
     }
 }
 

@@ -85,12 +85,15 @@ class Accelerator {
     // visibility also shadow rays towards one light: the answers of the
     // single-ray queries, found with one traversal of the tree
     // (bvh/packet_rays.h, bvh/packet_frustum.inl). Other packets, and scenes
-    // that move, have alpha or instances, are traced ray by ray. Returns
-    // whether the packet traversal served them. Throws std::invalid_argument
-    // when the spans differ in size or hold more than kPacketSize rays.
+    // that move, have alpha or instances (packets_serve() false), are traced
+    // ray by ray. Returns whether the packet traversal served them. Throws
+    // std::invalid_argument when the spans differ in size or hold more than
+    // kPacketSize rays.
     static constexpr uint32_t kPacketSize = bvh::kPacketSize;
     bool intersect(std::span<const Ray> rays, std::span<Hit> hits) const;
     bool visibility(std::span<const Ray> rays, std::span<float> visibility) const;
+    // Whether packets of this scene go through the packet traversal.
+    bool packets_serve() const;
 
     // The world-space triangles' tree.
     const bvh::WideBvh& wide_bvh() const { return data_.world.bvh; }

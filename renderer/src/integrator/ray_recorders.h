@@ -22,10 +22,18 @@ inline void count(RayCounts& counts, RayKind kind) {
 // The hot path: counts rays, records nothing.
 struct CountingRecorder {
     RayCounts& counts;
+    // The camera ray's hit when a packet found it already: the first ray
+    // traced takes it instead of a traversal.
+    const Hit* primary = nullptr;
 
     int closest(const Accelerator& accel, const Ray& ray, RayKind kind, uint32_t, int, vec3, Hit& hit) {
         count(counts, kind);
-        accel.intersect(ray, hit);
+        if (primary) {
+            hit = *primary;
+            primary = nullptr;
+        } else {
+            accel.intersect(ray, hit);
+        }
         return -1;
     }
     int shadow(const Accelerator& accel, const Ray& ray, uint32_t, int, uint32_t, float& visibility) {

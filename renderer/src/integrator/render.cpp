@@ -1,6 +1,8 @@
 #include "integrator/render.h"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -32,7 +34,10 @@ Renderer::Renderer(const Accelerator& accel, RenderSettings settings, Camera cam
       film_(settings_),
       stopping_(settings_.adaptive_threshold(), settings_.samples_per_pixel()),
       integrator_(accel, settings_) {
-    if (!view_.moving() && !accel.scene().moving()) return;
+    if (!view_.moving() && !accel.scene().moving()) {
+        if (accel.packets_serve()) packets_ = &accel;
+        return;
+    }
     sample_times_ = settings_.motion_blur() == TIME_SAMPLED;
     if (settings_.motion_blur() == FRAMES) motion_frames_ = settings_.motion_frames();
 }
@@ -122,6 +127,21 @@ RenderStats Renderer::render_pixels(const TileRect& tile, uint32_t scale, float*
     // was 8% slower on the dragon than 32-pixel tiles).
     for (uint32_t block_y = 0; block_y < rows; block_y += kCacheBlock) {
         for (uint32_t block_x = 0; block_x < columns; block_x += kCacheBlock) {
+            if (packets_ && aux.empty()) {
+                // 4 x 4 pixels at a time, their camera rays one packet per sample.
+                for (uint32_t j0 = block_y; j0 < std::min(rows, block_y + kCacheBlock); j0 += 4)
+                    for (uint32_t i0 = block_x; i0 < std::min(columns, block_x + kCacheBlock); i0 += 4) {
+                        PacketPixels block;
+                        for (uint32_t j = j0; j < std::min(rows, j0 + 4); ++j)
+                            for (uint32_t i = i0; i < std::min(columns, i0 + 4); ++i) {
+                                const uint32_t x = tile.x + i * scale, y = tile.y + j * scale;
+                                if (known_stride != 0 && y % known_stride == 0 && x % known_stride == 0) continue;
+                                block.add(x, y, j * row_pixels + i);
+                            }
+                        render_packet(block, rgb, stats, stop);
+                    }
+                continue;
+            }
             for (uint32_t j = block_y; j < std::min(rows, block_y + kCacheBlock); ++j) {
                 const uint32_t y = tile.y + j * scale;
                 const bool known_row = known_stride != 0 && y % known_stride == 0;
@@ -141,6 +161,51 @@ RenderStats Renderer::render_pixels(const TileRect& tile, uint32_t scale, float*
         }
     }
     return stats;
+}
+
+void Renderer::render_packet(const PacketPixels& block, float* rgb, RenderStats& stats,
+                             const std::stop_token& stop) const {
+    const uint32_t count = settings_.samples_per_pixel();
+    std::array<PixelEstimate, Accelerator::kPacketSize> estimates;
+    std::array<vec3, Accelerator::kPacketSize> colors;
+    uint32_t sampling = (1u << block.count) - 1;  // the pixels still taking samples
+    for (uint32_t i = 0; i < count && sampling != 0; ++i) {
+        if (stop.stop_requested()) throw RenderStopped();
+        // estimate_frame's rays and samplers for sample i of each pixel, at
+        // the middle of the shutter interval: nothing moves.
+        const uint32_t sample = count == 1 ? 0 : i;
+        std::array<Ray, Accelerator::kPacketSize> rays;
+        std::array<uint32_t, Accelerator::kPacketSize> pixel;
+        uint32_t n = 0;
+        for (uint32_t left = sampling; left != 0; left &= left - 1, ++n) {
+            const uint32_t k = uint32_t(std::countr_zero(left));
+            const uint32_t x = block.x[k], y = block.y[k];
+            pixel[n] = k;
+            const vec2 offset = count == 1 ? vec2(0.0f) : film_.offset(PixelSampler(pixel_key(x, y), sample));
+            rays[n] = view_.generate_ray(float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y, 0.5f);
+        }
+        std::array<Hit, Accelerator::kPacketSize> hits;
+        packets_->intersect(std::span(rays.data(), n), std::span(hits.data(), n));
+        for (uint32_t r = 0; r < n; ++r) {
+            const uint32_t k = pixel[r];
+            const PixelSampler sampler(pixel_key(block.x[k], block.y[k]), sample);
+            const vec3 c = integrator_.radiance(rays[r], hits[r], sampler, stats.rays, cone_);
+            if (count == 1) {
+                colors[k] = c;  // a lone sample is the pixel, as estimate_frame returns it
+                continue;
+            }
+            estimates[k].add(c);
+            if (stopping_.done(estimates[k])) sampling &= ~(1u << k);
+        }
+    }
+    for (uint32_t k = 0; k < block.count; ++k) {
+        const vec3 c = count == 1 ? colors[k] : estimates[k].mean();
+        stats.samples += count == 1 ? 1 : estimates[k].count();
+        float* out = rgb + block.index[k] * 3;
+        out[0] = c.r;
+        out[1] = c.g;
+        out[2] = c.b;
+    }
 }
 
 vec3 Renderer::render_pixel(uint32_t x, uint32_t y, size_t index, const AuxLayers& aux, RenderStats& stats) const {

@@ -106,6 +106,19 @@ class Renderer {
                               size_t row_pixels, uint32_t known_stride = 0, const std::stop_token& stop = {}) const;
     // Pixel (x, y), its outputs stored at `index` of `aux`.
     vec3 render_pixel(uint32_t x, uint32_t y, size_t index, const AuxLayers& aux, RenderStats& stats) const;
+    // Up to 16 pixels near one another, and where each one's colour goes.
+    struct PacketPixels {
+        uint32_t count = 0;
+        uint32_t x[Accelerator::kPacketSize], y[Accelerator::kPacketSize];
+        size_t index[Accelerator::kPacketSize];
+        void add(uint32_t px, uint32_t py, size_t at) { x[count] = px, y[count] = py, index[count++] = at; }
+    };
+    // The colours of `block`'s pixels, each sample's camera rays traced as one
+    // packet (Accelerator::intersect over a span), each pixel's samples taken
+    // in their own order and stopped by their own rule: each pixel gets the
+    // value render_pixel gives it. For the colour alone of a still scene the
+    // packet path serves (packets_).
+    void render_packet(const PacketPixels& block, float* rgb, RenderStats& stats, const std::stop_token& stop) const;
     // Pixels per side of the blocks a tile is walked in.
     static constexpr uint32_t kCacheBlock = 16;
     // The mean of pixel (x, y)'s samples, `trace(ray, sampler)` giving each
@@ -128,6 +141,9 @@ class Renderer {
     // (TIME_SAMPLED), or motion_frames_ > 0 frames are averaged (FRAMES).
     bool sample_times_ = false;
     uint32_t motion_frames_ = 0;
+    // Set when nothing moves and the scene takes packet queries: the colour
+    // pixels' camera rays then go in packets.
+    const Accelerator* packets_ = nullptr;
 };
 
 // Pixels a preview at `scale` has along an edge of `extent` >= 1 pixels: ceil(extent / scale).

@@ -87,6 +87,12 @@ vec3 WhittedIntegrator::radiance(const Ray& ray, const PixelSampler& sampler, Ra
     return trace(ray, cone, PRIMARY, 0, vec3(1.0f), -1, sampler, recorder);
 }
 
+vec3 WhittedIntegrator::radiance(const Ray& ray, const Hit& primary, const PixelSampler& sampler, RayCounts& counts,
+                                 RayCone cone) const {
+    CountingRecorder recorder{counts, &primary};
+    return trace(ray, cone, PRIMARY, 0, vec3(1.0f), -1, sampler, recorder);
+}
+
 vec3 WhittedIntegrator::radiance(const Ray& ray, const PixelSampler& sampler, RayCounts& counts, AuxSample& aux,
                                  RayCone cone) const {
     AuxRecorder recorder{counts, aux};

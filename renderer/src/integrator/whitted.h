@@ -65,6 +65,10 @@ class WhittedIntegrator {
     // computes it. `cone` is the ray's footprint (ray_cone.h), which filters
     // textures; without one they are read unfiltered (mip level 0).
     vec3 radiance(const Ray& ray, const PixelSampler& sampler, RayCounts& counts, RayCone cone = {}) const;
+    // The same when a packet query (Accelerator::intersect over a span) has
+    // found the camera ray's hit already.
+    vec3 radiance(const Ray& ray, const Hit& primary, const PixelSampler& sampler, RayCounts& counts,
+                  RayCone cone = {}) const;
 
     // The same, also reporting the primary hit's depth, normal and albedo and
     // the BVH traversal cost of every ray traced (aov.h).
