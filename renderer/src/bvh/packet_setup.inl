@@ -24,7 +24,7 @@ enum class PacketLoad {
             p.origin[axis][i] = ray.origin[axis];
             p.direction[axis][i] = ray.direction[axis];
         }
-        p.t_max[i] = ray.t_max;
+        p.t_max[i] = p.t_cull[i] = ray.t_max;
     }
     // Rays from one point (a pinhole camera's) or along one direction (an
     // orthographic one's) make a cone or a beam the intervals bound tightly.

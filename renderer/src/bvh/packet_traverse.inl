@@ -32,7 +32,7 @@
 }
 
 // Which of the rays in `rays` enter child `slot`'s box before their own
-// t_max: wide_box_test's operations in its order, eight rays a pass. Each
+// t_cull: wide_box_test's operations in its order, eight rays a pass. Each
 // ray's entry plane is the one it meets first, whichever way it runs: with a
 // finite reciprocal (load_packet checks) the two distances are ordered as
 // the ray's own choice of planes orders them, bit for bit.
@@ -42,7 +42,7 @@
     for (uint32_t first = 0; first < p.count; first += 8) {
         if (((rays >> first) & 0xffu) == 0) continue;
         PacketLanes enter = lanes_splat(0.0f);
-        PacketLanes t_max = lanes_load(p.t_max + first);
+        PacketLanes t_max = lanes_load(p.t_cull + first);
         PacketLanes exit = t_max;
         for (int axis = 0; axis < 3; ++axis) {
             const PacketLanes origin = lanes_load(p.origin[axis] + first);
@@ -66,10 +66,10 @@ struct PacketPending {
     uint32_t slot;
 };
 
-// The largest t_max of the rays in `rays`: no ray of the packet looks further.
+// The largest t_cull of the rays in `rays`: no ray of the packet looks further.
 [[gnu::always_inline]] inline float packet_reach(const bvh::PacketRays& p, uint32_t rays) {
     float reach = 0.0f;
-    for (; rays != 0; rays &= rays - 1) reach = std::max(reach, p.t_max[__builtin_ctz(rays)]);
+    for (; rays != 0; rays &= rays - 1) reach = std::max(reach, p.t_cull[__builtin_ctz(rays)]);
     return reach;
 }
 
@@ -77,8 +77,8 @@ struct PacketPending {
 // packet may enter before `reach`, with lower bounds of where in t_entry
 // (packet_box_test, or frustum_box_test with zeros). leaf_test(first_block,
 // block_count, rays) tests the leaf's primitives against the rays (a mask)
-// that enter its box. A closest-hit test lowers their p.t_max to the hits it
-// finds; an any-hit test returns the rays it stopped, which leave the packet.
+// that enter its box. A closest-hit test lowers their p.t_max (and t_cull)
+// to the hits it finds; an any-hit test returns the rays it stopped, which leave the packet.
 // Starts with the rays in `active`.
 template <bvh::Query query, typename NodeTest, typename LeafTest>
 [[gnu::always_inline]] inline void traverse_packet(const bvh::WideBvh& bvh, bvh::PacketRays& p, uint32_t active,

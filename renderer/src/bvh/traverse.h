@@ -13,6 +13,14 @@ namespace rt::bvh {
 
 enum class Query { closest_hit, any_hit };
 
+// How far past the nearest hit so far a closest-hit query still enters boxes
+// and tests triangles: far enough that a triangle at the same distance, or a
+// rounding error nearer, in a box whose entry the box test rounds just past
+// it, is still met. The answer, the nearest hit with ties going to the lower
+// triangle number, then does not depend on the order of the traversal, so
+// the packet and the single-ray queries agree.
+inline float tie_reach(float t) { return t + t * 0x1p-20f; }
+
 // Sees every node whose box a traversal tests. The default one compiles away,
 // so the plain queries pay nothing for the debugger's.
 struct NoObserver {

@@ -63,8 +63,9 @@ template <typename PrefetchLeaf>
 }
 
 // leaf_test(first_block, block_count, t_max) tests the leaf's primitives for
-// hits with t < t_max; for closest-hit queries it lowers t_max to the nearest
-// hit it finds. It returns whether it found one. Returns whether any leaf test did.
+// hits with t < t_max (or a tie at t_max, bvh::tie_reach); for closest-hit
+// queries it lowers t_max to the nearest hit it finds. It returns whether it
+// found one. Returns whether any leaf test did.
 // prefetch_leaf(leaf) starts fetching a leaf's primitives.
 // kMoving: the tree has boxes at shutter close too, interpolated to ray.time.
 template <bvh::Query query, bool kMoving, typename LeafTest, typename PrefetchLeaf, typename Observer>
@@ -73,6 +74,7 @@ template <bvh::Query query, bool kMoving, typename LeafTest, typename PrefetchLe
     if (bvh.empty()) return false;
     const bvh::WideBoxRay box_ray(ray);
     float t_max = ray.t_max;
+    float reach = t_max;  // where boxes are still entered: tie_reach(t_max) once a hit is found
     WidePending stack[bvh::kWideStackSize];
     uint32_t stack_size = 0;
     bvh::ChildRef current = bvh::ChildRef::inner(0);
@@ -82,7 +84,7 @@ template <bvh::Query query, bool kMoving, typename LeafTest, typename PrefetchLe
             const bvh::WideNode& node = bvh.nodes[current.node()];
             observer.visit_node(current.node());
             alignas(32) float t_entry[bvh::kWideWidth];
-            const uint32_t hits = wide_box_test<kMoving>(node, box_ray, t_max, t_entry,
+            const uint32_t hits = wide_box_test<kMoving>(node, box_ray, reach, t_entry,
                                                          kMoving ? &bvh.close[current.node()] : nullptr, ray.time);
             if (hits != 0) {
                 if ((hits & (hits - 1)) == 0) {
@@ -106,13 +108,14 @@ template <bvh::Query query, bool kMoving, typename LeafTest, typename PrefetchLe
             if (leaf_test(current.first_block(), current.block_count(), t_max)) {
                 found = true;
                 if constexpr (query == bvh::Query::any_hit) return true;
+                reach = bvh::tie_reach(t_max);
             }
         }
         for (;;) {
             if (stack_size == 0) return found;
             const WidePending& next = stack[--stack_size];
             // An any-hit query's t_max never shrinks: whatever waits is still ahead.
-            if (query == bvh::Query::any_hit || next.t_entry < t_max) {
+            if (query == bvh::Query::any_hit || next.t_entry < reach) {
                 current = bvh::ChildRef{next.ref};
                 break;
             }

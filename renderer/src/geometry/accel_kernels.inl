@@ -71,14 +71,18 @@ template <bool kMoving, bool kFiltered, typename Observer>
         const TriangleBlock* pair[2];
         const uint32_t count = blocks_at<kMoving>(data, b, end, time, moved, pair, observer);
         PairHits hits;
-        uint32_t lanes = intersect_block_pair(watertight, pair, count, t_max, hits);
-        // Lane order with a strict `<`: among equal distances the first
-        // triangle wins, as in a loop of scalar tests.
+        // Once a triangle is found, one at the same distance may still win.
+        const float limit = nearest.found() ? bvh::tie_reach(t_max) : t_max;
+        uint32_t lanes = intersect_block_pair(watertight, pair, count, limit, hits);
         for (; lanes != 0; lanes &= lanes - 1) {
             const uint32_t lane = uint32_t(__builtin_ctz(lanes));
             const TriangleBlock& block = *pair[lane >> 2];
             const uint32_t slot = lane & 3;
-            if (!(hits.t(lane) < t_max)) continue;
+            // Among equal distances the lower triangle number wins, in
+            // whatever order the leaves come (bvh::tie_reach).
+            if (!(hits.t(lane) < t_max ||
+                  (hits.t(lane) == t_max && nearest.found() && block.triangle(slot) < nearest.primitive)))
+                continue;
             // A hole leaves the nearest hit as it was.
             if (kFiltered && block.has_alpha(slot) &&
                 !(triangle_coverage(*data.scene, block.triangle(slot), hits.u(lane), hits.v(lane)) > 0.0f))

@@ -55,10 +55,12 @@ template <typename Found>
     return in;
 }
 
-// A still, opaque world tree only: the caller checks.
+// A still, opaque world tree only: the caller checks. The rays' hits so far
+// (spheres) stay where no triangle is nearer.
 [[gnu::flatten]] inline void closest_packet(const AccelData& data, bvh::PacketRays& p, Hit* hits) {
     const PacketShear shear(p);
     SilentObserver none;
+    Hit nearest[bvh::kPacketSize];  // the triangles', as closest_triangle keeps its own
     const auto intervals = [&](const bvh::WideNode& node, float reach, float* t_entry) {
         return packet_box_test(node, p, reach, t_entry);
     };
@@ -67,22 +69,29 @@ template <typename Found>
                                                                                           uint32_t in) {
         prefetch_blocks<false>(data, bvh::ChildRef::leaf(first_block, block_count));
         if (const uint32_t by_triangle = rays_by_triangle(shear, in)) {
-            // The test's t < t_max is strict and sees each hit lower t_max:
-            // among equal distances the first triangle wins, as ray by ray.
+            // closest_in_leaf's rule: the nearer hit, or at the same distance
+            // the lower triangle number (bvh::tie_reach).
             leaf_by_triangle(data, p, shear, first_block, block_count, by_triangle,
                              [&](uint32_t r, uint32_t triangle, float t, float u, float v) {
-                                 p.t_max[r] = t;
-                                 hits[r] = {t, triangle, u, v};
+                                 if (t < p.t_max[r] ||
+                                     (t == p.t_max[r] && nearest[r].found() && triangle < nearest[r].primitive)) {
+                                     p.t_max[r] = t;
+                                     p.t_cull[r] = bvh::tie_reach(t);
+                                     nearest[r] = {t, triangle, u, v};
+                                 }
                                  return false;
                              });
             in &= ~by_triangle;
         }
         for (; in != 0; in &= in - 1) {
             const uint32_t r = uint32_t(__builtin_ctz(in));
-            closest_in_leaf<false, false>(data, WatertightRay4(shear.ray(r)), first_block, block_count, 0.0f,
-                                          p.t_max[r], hits[r], none);
+            if (closest_in_leaf<false, false>(data, WatertightRay4(shear.ray(r)), first_block, block_count, 0.0f,
+                                              p.t_max[r], nearest[r], none))
+                p.t_cull[r] = bvh::tie_reach(p.t_max[r]);
         }
     });
+    for (uint32_t r = 0; r < p.count; ++r)
+        if (nearest[r].found()) hits[r] = nearest[r];
 }
 
 // Returns the rays (a mask of those in `active`) an opaque triangle stops.
@@ -129,7 +138,8 @@ bool intersect_packet_with(const AccelScene& accel, const Ray* rays, uint32_t co
     if (accel.scene->spheres.empty())
         std::fill_n(hits, count, Hit{});
     else
-        for (uint32_t i = 0; i < count; ++i) p.t_max[i] = nearest_sphere(*accel.scene, rays[i], hits[i]).t_max;
+        for (uint32_t i = 0; i < count; ++i)
+            p.t_max[i] = p.t_cull[i] = nearest_sphere(*accel.scene, rays[i], hits[i]).t_max;
     closest_packet(accel.world, p, hits);
     return true;
 }

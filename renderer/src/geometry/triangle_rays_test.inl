@@ -75,7 +75,7 @@ namespace rays_test_detail {
 
 }  // namespace rays_test_detail
 
-// Bit i set: ray first + i hits the triangle with 0 < t < t_max[i]; hits.t/u/v
+// Bit i set: ray first + i hits the triangle with 0 < t < t_cull[i]; hits.t/u/v
 // lane i then hold its hit. `rays` (8 bits) says which lanes to test; the
 // others answer nothing.
 [[gnu::always_inline]] inline uint32_t intersect_triangle_rays(const bvh::PacketRays& p, const PacketShear& s,
@@ -110,7 +110,7 @@ namespace rays_test_detail {
     uint32_t hit_lanes = 0;
     if (candidates != 0) {
         const PacketLanes sz = lanes_load(s.sz + first);
-        const PacketLanes t_max = lanes_load(p.t_max + first);
+        const PacketLanes t_max = lanes_load(p.t_cull + first);
         const PacketLanes az = sz * a_z, bz = sz * b_z, cz = sz * c_z;
         const PacketLanes t_scaled = (e0 * az + e1 * bz) + e2 * cz;
         const PacketLanes t_max_det = t_max * det;
@@ -147,7 +147,7 @@ namespace rays_test_detail {
     for (uint32_t lanes = exact_zero; lanes != 0; lanes &= lanes - 1) {
         const uint32_t lane = uint32_t(__builtin_ctz(lanes));
         TriangleHit hit;
-        if (!intersect_triangle(s.ray(first + lane), p0, p1, p2, p.t_max[first + lane], hit)) continue;
+        if (!intersect_triangle(s.ray(first + lane), p0, p1, p2, p.t_cull[first + lane], hit)) continue;
         hits.t[lane] = hit.t, hits.u[lane] = hit.u, hits.v[lane] = hit.v;
         hit_lanes |= 1u << lane;
     }
