@@ -84,22 +84,6 @@ void expect_well_formed(const bvh::Bvh& bvh, std::span<const Bounds3> prim_bound
     for (size_t p = 0; p < times_in_leaf.size(); ++p) EXPECT_EQ(times_in_leaf[p], 1) << "primitive " << p;
 }
 
-struct BuildInput {
-    std::vector<Bounds3> bounds;
-    std::vector<vec3> centroids;
-};
-
-BuildInput build_input(const Scene& scene) {
-    BuildInput input;
-    for (const uvec3& t : scene.triangles) {
-        Bounds3 b;
-        for (int k = 0; k < 3; ++k) b.extend(scene.positions[t[k]]);
-        input.bounds.push_back(b);
-        input.centroids.push_back(b.center());
-    }
-    return input;
-}
-
 // Each primitive's centroid moved off its box's centre (still inside), so that
 // the builder cannot derive centroids from boxes.
 std::vector<vec3> off_centre_centroids(const BuildInput& input) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "load/loader.h"
+#include "util/bounds.h"
 #include "util/ray.h"
 #include "geometry/scene.h"
 
@@ -144,6 +145,23 @@ inline std::vector<Ray> random_rays(const Scene& scene, size_t count, uint32_t s
         rays.push_back(ray);
     }
     return rays;
+}
+
+// A builder's input for a scene's triangles: each one's box and its centre.
+struct BuildInput {
+    std::vector<Bounds3> bounds;
+    std::vector<vec3> centroids;
+};
+
+inline BuildInput build_input(const Scene& scene) {
+    BuildInput input;
+    for (const uvec3& t : scene.triangles) {
+        Bounds3 b;
+        for (int k = 0; k < 3; ++k) b.extend(scene.positions[t[k]]);
+        input.bounds.push_back(b);
+        input.centroids.push_back(b.center());
+    }
+    return input;
 }
 
 }  // namespace rt::testing

@@ -18,25 +18,9 @@ namespace {
 
 using namespace rt::testing;
 
-struct Input {
-    std::vector<Bounds3> bounds;
-    std::vector<vec3> centroids;
-};
-
-Input input_of(const Scene& scene) {
-    Input input;
-    for (const uvec3& t : scene.triangles) {
-        Bounds3 b;
-        for (int k = 0; k < 3; ++k) b.extend(scene.positions[t[k]]);
-        input.bounds.push_back(b);
-        input.centroids.push_back(b.center());
-    }
-    return input;
-}
-
 // The binary tree as the accelerator builds it for triangles (leaves of at
 // most one block), or with `max_leaf_size` 8 as it did before the plan.
-bvh::Bvh binary_of(const Input& input, uint32_t max_leaf_size = bvh::kBlockWidth, unsigned threads = 1) {
+bvh::Bvh binary_of(const BuildInput& input, uint32_t max_leaf_size = bvh::kBlockWidth, unsigned threads = 1) {
     bvh::BuildOptions options;
     options.max_leaf_size = max_leaf_size;
     options.leaf_block_size = bvh::kBlockWidth;
@@ -107,7 +91,7 @@ std::vector<bvh::CollapseOptions> option_sets() {
 
 TEST(WideCollapse, TheWideTreeCostsWhatItsPlanSays) {
     for (const Scene& scene : {random_soup(3000, 4), icosphere(4), sample_scene("dragon_4.glb")}) {
-        const Input input = input_of(scene);
+        const BuildInput input = build_input(scene);
         const bvh::Bvh binary = binary_of(input);
         for (const bvh::CollapseOptions& options : option_sets()) {
             const bvh::CollapsePlan plan(binary, options);
@@ -124,7 +108,7 @@ TEST(WideCollapse, TheWideTreeCostsWhatItsPlanSays) {
 // the greedy one; on a real mesh clearly cheaper.
 TEST(WideCollapse, NoGreedyCollapseOfTheSameTreeIsCheaper) {
     for (const Scene& scene : {random_soup(3000, 5), grid(30), sample_scene("dragon_4.glb")}) {
-        const Input input = input_of(scene);
+        const BuildInput input = build_input(scene);
         const bvh::Bvh binary = binary_of(input);
         for (const bvh::CollapseOptions& options : option_sets()) {
             const double greedy = GreedyCollapse(binary, options).cost();
@@ -155,7 +139,7 @@ Scene without_ground(const Scene& scene) {
 TEST(WideCollapse, TheAcceleratorsTreeIsCheaperThanTheGreedyCollapse) {
     const Scene scene = without_ground(sample_scene("dragon_3.glb"));
     ASSERT_LT(scene.triangles.size(), sample_scene("dragon_3.glb").triangles.size());
-    const Input input = input_of(scene);
+    const BuildInput input = build_input(scene);
     bvh::CollapseOptions before;
     before.max_leaf_prims = 2 * bvh::kBlockWidth;
     const double greedy = GreedyCollapse(binary_of(input, 2 * bvh::kBlockWidth), before).cost();
@@ -173,7 +157,7 @@ void expect_same_wide_tree(const bvh::WideBvh& a, const bvh::WideBvh& b) {
 // The plan's subtrees are planned on as many threads as are spare; the
 // dragon's are big enough to be.
 TEST(WideCollapse, TheTreeIsTheSameForAnyThreadCount) {
-    const Input input = input_of(sample_scene("dragon_3.glb"));
+    const BuildInput input = build_input(sample_scene("dragon_3.glb"));
     const bvh::Bvh binary = binary_of(input);
     bvh::CollapseOptions options;
     options.threads = 1;

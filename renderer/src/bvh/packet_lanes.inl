@@ -37,6 +37,11 @@ typedef int32_t PacketMask __attribute__((vector_size(32)));
     return x;
 }
 
+// The largest of |x|, |y| and |z|, lane by lane.
+[[gnu::always_inline]] inline PacketLanes lanes_abs_max(PacketLanes x, PacketLanes y, PacketLanes z) {
+    return lanes_max(lanes_abs(x), lanes_max(lanes_abs(y), lanes_abs(z)));
+}
+
 // The smallest and the largest lane.
 [[gnu::always_inline]] inline float lanes_low(PacketLanes v) {
     float low = v[0];

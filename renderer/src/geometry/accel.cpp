@@ -273,9 +273,7 @@ bool Accelerator::intersect(std::span<const Ray> rays, std::span<Hit> hits) cons
     return kernels_->intersect_packet(data_, rays.data(), uint32_t(rays.size()), hits.data());
 }
 
-bool Accelerator::packets_serve() const {
-    return !data_.instanced() && !data_.world.moving && !data_.world.filtered && !data_.world.bvh.empty();
-}
+bool Accelerator::packets_serve() const { return data_.packets_serve(); }
 
 bool Accelerator::visibility(std::span<const Ray> rays, std::span<float> visibility) const {
     if (rays.size() != visibility.size() || rays.size() > kPacketSize)

@@ -124,14 +124,9 @@ template <typename NodeTest>
     return stopped;
 }
 
-// Whether the packet path serves this scene.
-inline bool packet_path(const AccelScene& accel) {
-    return !accel.instanced() && !accel.world.moving && !accel.world.filtered && !accel.world.bvh.empty();
-}
-
 bool intersect_packet_with(const AccelScene& accel, const Ray* rays, uint32_t count, Hit* hits) {
     bvh::PacketRays p;
-    if (count < 2 || !packet_path(accel) || load_packet(p, rays, count) != PacketLoad::intervals) {
+    if (count < 2 || !accel.packets_serve() || load_packet(p, rays, count) != PacketLoad::intervals) {
         for (uint32_t i = 0; i < count; ++i) intersect_with(accel, rays[i], hits[i], SilentObserver{});
         return false;
     }
@@ -149,7 +144,7 @@ bool intersect_packet_with(const AccelScene& accel, const Ray* rays, uint32_t co
 bool visibility_packet_with(const AccelScene& accel, const Ray* rays, uint32_t count, float* visibility) {
     bvh::PacketRays p;
     PacketFrustum frustum;
-    const PacketLoad load = count < 2 || !packet_path(accel) ? PacketLoad::refused : load_packet(p, rays, count);
+    const PacketLoad load = count < 2 || !accel.packets_serve() ? PacketLoad::refused : load_packet(p, rays, count);
     if (load == PacketLoad::refused || (load == PacketLoad::rays && !make_frustum(frustum, p))) {
         for (uint32_t i = 0; i < count; ++i) visibility[i] = visibility_with(accel, rays[i], SilentObserver{});
         return false;

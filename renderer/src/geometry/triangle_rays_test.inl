@@ -55,7 +55,7 @@ struct PacketShear {
     WatertightRay ray(uint32_t i) const {
         if (!shared) return WatertightRay(ray_at(i));
         WatertightRay r;
-        r.origin = {p.origin[0][i], p.origin[1][i], p.origin[2][i]};
+        r.origin = ray_at(i).origin;
         r.kx = kx, r.ky = ky, r.kz = kz;
         r.sx = sx[i], r.sy = sy[i], r.sz = sz[i];
         return r;
@@ -66,22 +66,12 @@ struct RaysHits {
     PacketLanes t, u, v;
 };
 
-namespace rays_test_detail {
-
-[[gnu::always_inline]] inline PacketLanes abs8(PacketLanes x) { return lanes_abs(x); }
-[[gnu::always_inline]] inline PacketLanes max3(PacketLanes x, PacketLanes y, PacketLanes z) {
-    return lanes_max(x, lanes_max(y, z));
-}
-
-}  // namespace rays_test_detail
-
 // Bit i set: ray first + i hits the triangle with 0 < t < t_cull[i]; hits.t/u/v
 // lane i then hold its hit. `rays` (8 bits) says which lanes to test; the
 // others answer nothing.
 [[gnu::always_inline]] inline uint32_t intersect_triangle_rays(const bvh::PacketRays& p, const PacketShear& s,
                                                                uint32_t first, uint32_t rays, vec3 p0, vec3 p1,
                                                                vec3 p2, RaysHits& hits) {
-    using namespace rays_test_detail;
     const PacketLanes ox = lanes_load(p.origin[s.kx] + first), oy = lanes_load(p.origin[s.ky] + first),
                       oz = lanes_load(p.origin[s.kz] + first);
     const PacketLanes sx = lanes_load(s.sx + first), sy = lanes_load(s.sy + first);
@@ -124,9 +114,9 @@ namespace rays_test_detail {
         hit_lanes = lanes_bits(~reject & (t < t_max)) & candidates;
         if (hit_lanes != 0) {
             // The conservative bound on t's rounding error (pbrt-v4, section 6.8.6).
-            const PacketLanes max_zt = max3(abs8(az), abs8(bz), abs8(cz));
-            const PacketLanes max_xt = max3(abs8(ax), abs8(bx), abs8(cx));
-            const PacketLanes max_yt = max3(abs8(ay), abs8(by), abs8(cy));
+            const PacketLanes max_zt = lanes_abs_max(az, bz, cz);
+            const PacketLanes max_xt = lanes_abs_max(ax, bx, cx);
+            const PacketLanes max_yt = lanes_abs_max(ay, by, cy);
             const PacketLanes gamma2 = lanes_splat(gamma_bound(2)), gamma3 = lanes_splat(gamma_bound(3)),
                               gamma5 = lanes_splat(gamma_bound(5));
             const PacketLanes delta_z = gamma3 * max_zt;
@@ -134,9 +124,9 @@ namespace rays_test_detail {
             const PacketLanes delta_y = gamma5 * (max_yt + max_zt);
             const PacketLanes delta_e =
                 lanes_splat(2.0f) * ((gamma2 * max_xt * max_yt + delta_y * max_xt) + delta_x * max_yt);
-            const PacketLanes max_e = max3(abs8(e0), abs8(e1), abs8(e2));
+            const PacketLanes max_e = lanes_abs_max(e0, e1, e2);
             const PacketLanes delta_t =
-                lanes_splat(3.0f) * ((gamma3 * max_e * max_zt + delta_e * max_zt) + delta_z * max_e) * abs8(inv_det);
+                lanes_splat(3.0f) * ((gamma3 * max_e * max_zt + delta_e * max_zt) + delta_z * max_e) * lanes_abs(inv_det);
             hit_lanes &= ~lanes_bits(t <= delta_t);
             hits.t = t;
             hits.u = e1 * inv_det;

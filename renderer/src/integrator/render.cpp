@@ -166,8 +166,9 @@ RenderStats Renderer::render_pixels(const TileRect& tile, uint32_t scale, float*
 void Renderer::render_packet(const PacketPixels& block, float* rgb, RenderStats& stats,
                              const std::stop_token& stop) const {
     const uint32_t count = settings_.samples_per_pixel();
+    // A lone sample's mean is the sample itself, bit for bit, as
+    // estimate_frame returns it.
     std::array<PixelEstimate, Accelerator::kPacketSize> estimates;
-    std::array<vec3, Accelerator::kPacketSize> colors;
     uint32_t sampling = (1u << block.count) - 1;  // the pixels still taking samples
     for (uint32_t i = 0; i < count && sampling != 0; ++i) {
         if (stop.stop_requested()) throw RenderStopped();
@@ -181,26 +182,21 @@ void Renderer::render_packet(const PacketPixels& block, float* rgb, RenderStats&
             const uint32_t k = uint32_t(std::countr_zero(left));
             const uint32_t x = block.x[k], y = block.y[k];
             pixel[n] = k;
-            const vec2 offset = count == 1 ? vec2(0.0f) : film_.offset(PixelSampler(pixel_key(x, y), sample));
+            const vec2 offset = count == 1 ? vec2(0.0f) : film_.offset(PixelSampler(block.key[k], sample));
             rays[n] = view_.generate_ray(float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y, 0.5f);
         }
         std::array<Hit, Accelerator::kPacketSize> hits;
         packets_->intersect(std::span(rays.data(), n), std::span(hits.data(), n));
         for (uint32_t r = 0; r < n; ++r) {
             const uint32_t k = pixel[r];
-            const PixelSampler sampler(pixel_key(block.x[k], block.y[k]), sample);
-            const vec3 c = integrator_.radiance(rays[r], hits[r], sampler, stats.rays, cone_);
-            if (count == 1) {
-                colors[k] = c;  // a lone sample is the pixel, as estimate_frame returns it
-                continue;
-            }
-            estimates[k].add(c);
+            const PixelSampler sampler(block.key[k], sample);
+            estimates[k].add(integrator_.radiance(rays[r], hits[r], sampler, stats.rays, cone_));
             if (stopping_.done(estimates[k])) sampling &= ~(1u << k);
         }
     }
     for (uint32_t k = 0; k < block.count; ++k) {
-        const vec3 c = count == 1 ? colors[k] : estimates[k].mean();
-        stats.samples += count == 1 ? 1 : estimates[k].count();
+        const vec3 c = estimates[k].mean();
+        stats.samples += estimates[k].count();
         float* out = rgb + block.index[k] * 3;
         out[0] = c.r;
         out[1] = c.g;

@@ -110,8 +110,11 @@ class Renderer {
     struct PacketPixels {
         uint32_t count = 0;
         uint32_t x[Accelerator::kPacketSize], y[Accelerator::kPacketSize];
+        uint32_t key[Accelerator::kPacketSize];  // pixel_key(x, y)
         size_t index[Accelerator::kPacketSize];
-        void add(uint32_t px, uint32_t py, size_t at) { x[count] = px, y[count] = py, index[count++] = at; }
+        void add(uint32_t px, uint32_t py, size_t at) {
+            x[count] = px, y[count] = py, key[count] = pixel_key(px, py), index[count++] = at;
+        }
     };
     // The colours of `block`'s pixels, each sample's camera rays traced as one
     // packet (Accelerator::intersect over a span), each pixel's samples taken
