@@ -23,8 +23,9 @@ namespace {
 using namespace rt::testing;
 
 std::vector<SimdPath> paths() {
-    std::vector<SimdPath> supported{SimdPath::generic};
-    if (cpu_supports(SimdPath::avx2)) supported.push_back(SimdPath::avx2);
+    std::vector<SimdPath> supported;
+    for (SimdPath path : kSimdPaths)
+        if (cpu_supports(path)) supported.push_back(path);
     return supported;
 }
 

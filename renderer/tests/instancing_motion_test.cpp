@@ -46,7 +46,7 @@ TEST(InstancingMotion, TheBlendStandsWhereOpenAndCloseSay) {
 TEST(InstancingMotion, HitsMatchBruteForceAtEveryTimeOnEveryPathAndThreadCount) {
     const Scene scene = moving_instanced_soup(40, 3, 3.0f);
     const std::vector<Ray> rays = timed_rays(scene, 4000, 17);
-    for (SimdPath path : {SimdPath::generic, SimdPath::avx2}) {
+    for (SimdPath path : kSimdPaths) {
         if (!cpu_supports(path)) continue;
         for (unsigned threads : {1u, 2u}) {
             const Accelerator accel(scene, threads, path);

@@ -26,7 +26,7 @@ std::vector<Ray> rays_for(const Scene& scene, size_t count) { return random_rays
 TEST(Instancing, HitsMatchBruteForceOnEveryPathAndThreadCount) {
     const Scene scene = instanced_soup(40, 3);
     const std::vector<Ray> rays = rays_for(scene, 4000);
-    for (SimdPath path : {SimdPath::generic, SimdPath::avx2}) {
+    for (SimdPath path : kSimdPaths) {
         if (!cpu_supports(path)) continue;
         for (unsigned threads : {1u, 2u}) {
             const Accelerator accel(scene, threads, path);

@@ -211,7 +211,7 @@ bool same_bits(const Hit& a, const Hit& b) {
 
 std::vector<SimdPath> supported_paths() {
     std::vector<SimdPath> paths;
-    for (SimdPath path : {SimdPath::generic, SimdPath::avx2})
+    for (SimdPath path : kSimdPaths)
         if (cpu_supports(path)) paths.push_back(path);
     return paths;
 }
@@ -273,8 +273,10 @@ TEST(WideBvh, EverySimdPathAgreesWithBruteForce) {
 
 TEST(WideBvh, AnUnsupportedOrUnknownPathIsRefused) {
     const Scene scene = icosphere(1);
-    if (!cpu_supports(SimdPath::avx2)) {
-        EXPECT_THROW(Accelerator(scene, 1, SimdPath::avx2), std::runtime_error);
+    for (SimdPath path : kSimdPaths) {
+        if (!cpu_supports(path)) {
+            EXPECT_THROW(Accelerator(scene, 1, path), std::runtime_error);
+        }
     }
     EXPECT_NO_THROW(Accelerator(scene, 1, SimdPath::generic));
     EXPECT_STREQ(to_string(SimdPath::generic), "generic");

@@ -31,7 +31,7 @@ def test_png_matches_rtcore_and_summary_is_printed(rtrender, scenes_dir, tmp_pat
     out = tmp_path / "cornell.png"
     result = run(rtrender, scenes_dir / "cornell.obj", "-o", out, "--width", 64, "--height", 48, "--quiet")
     assert result.returncode == 0, result.stderr
-    summary = re.search(r"(\d+) triangles.*BVH (\d+) nodes depth (\d+) \((generic|avx2) kernels\), build ([\d.]+) ms, "
+    summary = re.search(r"(\d+) triangles.*BVH (\d+) nodes depth (\d+) \((generic|avx2|avx512) kernels\), build ([\d.]+) ms, "
                         r"render ([\d.]+) ms, ([\d.]+) Mrays/s", result.stdout)
     assert summary, result.stdout
     image = np.asarray(Image.open(out).convert("RGB"))

@@ -12,8 +12,8 @@ import pytest
 # Registers and mnemonics that only AVX and later have.
 AVX_OPERAND = re.compile(r"%[yz]mm\d|%k[0-7]\b")
 FUNCTION = re.compile(r"^[0-9a-f]+ <(?P<name>.+)>:$")
-# A kernel's demangled name: its return type, then rt::avx2::, before its parameters.
-KERNEL = re.compile(r"^[^(]*\brt::avx2::")
+# A kernel's demangled name: its return type, then rt::avx2:: or rt::avx512::, before its parameters.
+KERNEL = re.compile(r"^[^(]*\brt::avx(2|512)::")
 # OpenEXR's capDate attribute: the time of writing, the only byte that may differ.
 CAP_DATE = re.compile(rb"capDate\x00string\x00.{4}\d{4}:\d\d:\d\d \d\d:\d\d:\d\d", re.S)
 
@@ -46,7 +46,8 @@ def avx_functions(binary):
 # rtrender keeps its symbols; the rtcore module, stripped, has the same library code.
 def test_only_the_dispatched_kernels_use_avx(rtrender):
     functions = avx_functions(rtrender)
-    assert any(KERNEL.match(f) for f in functions), "the AVX2 kernels are in the binary"
+    for isa in ("avx2", "avx512"):
+        assert any(KERNEL.match(f) and f"rt::{isa}::" in f for f in functions), f"the {isa} kernels are in the binary"
     stray = sorted(f for f in functions if not KERNEL.match(f))
     assert not stray, f"AVX code outside the dispatched kernels would crash older CPUs: {stray[:10]}"
 
@@ -65,7 +66,7 @@ def test_every_simd_path_renders_the_same_image(rtrender, scenes_dir, tmp_path):
     native = render(rtrender, scenes_dir / "bunny.glb", tmp_path / "native.exr")
     generic = render(rtrender, scenes_dir / "bunny.glb", tmp_path / "generic.exr", env={"RT_SIMD": "generic"})
     assert generic == "generic"
-    assert native in ("generic", "avx2")
+    assert native in ("generic", "avx2", "avx512")
     assert pixels(tmp_path / "native.exr") == pixels(tmp_path / "generic.exr")
 
 

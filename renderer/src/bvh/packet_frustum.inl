@@ -13,15 +13,29 @@
 
 struct PacketFrustum {
     static constexpr int kPlanes = 6;
-    // Inward normals: a point x of some segment has
-    // normal . (x - apex) >= threshold.
+    // Inward normals: a point x of some segment has normal . x >= limit,
+    // with room for the rounding of the product anywhere in the tree.
     float normal[kPlanes][3];
-    float threshold[kPlanes];
+    float limit[kPlanes];
     // Per plane and axis, the row of a node whose plane maximises
     // normal . x over a box: the upper one where the normal is positive.
     uint32_t row[kPlanes][3];
-    float apex[3];
 };
+
+// The largest magnitude of a coordinate in the tree (its root's boxes), 0
+// for an empty tree: what bounds the rounding of a plane's product with a corner.
+inline float tree_scale(const bvh::WideBvh& bvh) {
+    if (bvh.empty()) return 0.0f;
+    const bvh::WideNode& root = bvh.nodes[0];
+    const NodeMask used = lanes_load<NodeLanes>(root.lower[0]) <= lanes_load<NodeLanes>(root.upper[0]);
+    NodeLanes scale = {};
+    for (int axis = 0; axis < 3; ++axis) {
+        const NodeLanes extent = lanes_max(lanes_abs(lanes_load<NodeLanes>(root.lower[axis])),
+                                           lanes_abs(lanes_load<NodeLanes>(root.upper[axis])));
+        scale = lanes_max(scale, used ? extent : NodeLanes{});
+    }
+    return lanes_high(scale);
+}
 
 // Unit vectors u, v that make an orthonormal basis with unit c (Duff et al.,
 // "Building an Orthonormal Basis, Revisited", 2017).
@@ -40,26 +54,42 @@ inline constexpr float kMaxFrustumSlope = 0.02f;
 // The pyramid around the segments origin + [0, t_max] direction of the
 // packet's rays (every lane: those past count copy ray 0). False when some
 // t_max is infinite, or the segments do not converge on a point well apart
-// from their origins.
-inline bool make_frustum(PacketFrustum& f, const bvh::PacketRays& p) {
-    vec3 end[bvh::kPacketSize], origin[bvh::kPacketSize];
-    vec3 apex(0.0f), origins(0.0f);
-    for (uint32_t i = 0; i < bvh::kPacketSize; ++i) {
-        if (!(p.t_max[i] < kInfinity)) return false;
-        origin[i] = vec3(p.origin[0][i], p.origin[1][i], p.origin[2][i]);
-        end[i] = origin[i] + p.t_max[i] * vec3(p.direction[0][i], p.direction[1][i], p.direction[2][i]);
-        apex += end[i];
-        origins += origin[i];
+// from their origins. `scale`: tree_scale. A register of rays at a time: ray by ray, with a square
+// root and two divisions each, it took as long as the traversal.
+inline bool make_frustum(PacketFrustum& f, const bvh::PacketRays& p, float scale) {
+    constexpr uint32_t kGroups = bvh::kPacketSize / kRayLanes;
+    RayLanes origin[kGroups][3], end[kGroups][3];
+    RayLanes end_sum[3] = {}, origin_sum[3] = {};
+    for (uint32_t g = 0; g < kGroups; ++g) {
+        const RayLanes t_max = lanes_load<RayLanes>(p.t_max + g * kRayLanes);
+        if (lanes_bits(t_max < kInfinity) != kRayLaneBits) return false;
+        for (int axis = 0; axis < 3; ++axis) {
+            origin[g][axis] = lanes_load<RayLanes>(p.origin[axis] + g * kRayLanes);
+            end[g][axis] = origin[g][axis] + t_max * lanes_load<RayLanes>(p.direction[axis] + g * kRayLanes);
+            end_sum[axis] += end[g][axis];
+            origin_sum[axis] += origin[g][axis];
+        }
     }
-    apex /= float(bvh::kPacketSize);
-    origins /= float(bvh::kPacketSize);
+    vec3 apex, origins;
+    for (int axis = 0; axis < 3; ++axis) {
+        apex[axis] = lanes_sum(end_sum[axis]) / float(bvh::kPacketSize);
+        origins[axis] = lanes_sum(origin_sum[axis]) / float(bvh::kPacketSize);
+    }
     // Each segment lies within `radius` of the one from its origin to the
     // apex: the ends are within it of the apex.
-    float radius = 0.0f, reach = 0.0f;
-    for (uint32_t i = 0; i < bvh::kPacketSize; ++i) {
-        radius = std::max(radius, glm::length(end[i] - apex));
-        reach = std::max(reach, glm::length(origin[i] - apex));
+    RayLanes radius_squared = {}, reach_squared = {};
+    for (uint32_t g = 0; g < kGroups; ++g) {
+        RayLanes to_end = {}, to_origin = {};
+        for (int axis = 0; axis < 3; ++axis) {
+            const RayLanes e = end[g][axis] - apex[axis], o = origin[g][axis] - apex[axis];
+            to_end += e * e;
+            to_origin += o * o;
+        }
+        radius_squared = lanes_max(radius_squared, to_end);
+        reach_squared = lanes_max(reach_squared, to_origin);
     }
+    float radius = std::sqrt(lanes_high(radius_squared));
+    const float reach = std::sqrt(lanes_high(reach_squared));
     // Room for the rounding of the ends, the apex and the planes, which are
     // all relative to the coordinates.
     radius += 1e-6f * (max_component(glm::abs(apex)) + reach) + 1e-30f;
@@ -67,53 +97,61 @@ inline bool make_frustum(PacketFrustum& f, const bvh::PacketRays& p) {
     if (!std::isfinite(c.x + c.y + c.z)) return false;
     vec3 u, v;
     orthonormal_basis(c, u, v);
-    float su_low = kInfinity, su_high = -kInfinity, sv_low = kInfinity, sv_high = -kInfinity, far = 0.0f;
-    for (uint32_t i = 0; i < bvh::kPacketSize; ++i) {
-        const vec3 g = origin[i] - apex;
-        const float along = glm::dot(g, c);
-        if (!(along > 2.0f * radius)) return false;
-        const float su = glm::dot(g, u) / along, sv = glm::dot(g, v) / along;
-        su_low = std::min(su_low, su), su_high = std::max(su_high, su);
-        sv_low = std::min(sv_low, sv), sv_high = std::max(sv_high, sv);
-        far = std::max(far, along);
+    RayLanes su_low = lanes_splat<RayLanes>(kInfinity), su_high = -su_low, sv_low = su_low, sv_high = su_high;
+    RayLanes far_along = {};
+    for (uint32_t g = 0; g < kGroups; ++g) {
+        RayLanes along = {}, along_u = {}, along_v = {};
+        for (int axis = 0; axis < 3; ++axis) {
+            const RayLanes to_origin = origin[g][axis] - apex[axis];
+            along += to_origin * c[axis];
+            along_u += to_origin * u[axis];
+            along_v += to_origin * v[axis];
+        }
+        if (lanes_bits(along > 2.0f * radius) != kRayLaneBits) return false;
+        const RayLanes su = along_u / along, sv = along_v / along;
+        su_low = lanes_min(su_low, su), su_high = lanes_max(su_high, su);
+        sv_low = lanes_min(sv_low, sv), sv_high = lanes_max(sv_high, sv);
+        far_along = lanes_max(far_along, along);
     }
-    if (!(std::max({-su_low, su_high, -sv_low, sv_high}) <= kMaxFrustumSlope)) return false;
+    float su_min = lanes_low(su_low), su_max = lanes_high(su_high);
+    float sv_min = lanes_low(sv_low), sv_max = lanes_high(sv_high);
+    const float far = lanes_high(far_along);
+    if (!(std::max({-su_min, su_max, -sv_min, sv_max}) <= kMaxFrustumSlope)) return false;
     // A margin for the slopes' rounding.
     constexpr float kSlopeMargin = 1e-5f;
-    su_low -= kSlopeMargin, sv_low -= kSlopeMargin, su_high += kSlopeMargin, sv_high += kSlopeMargin;
-    const vec3 normals[PacketFrustum::kPlanes] = {u - su_low * c, su_high * c - u, v - sv_low * c,
-                                                  sv_high * c - v, c, -c};
+    su_min -= kSlopeMargin, sv_min -= kSlopeMargin, su_max += kSlopeMargin, sv_max += kSlopeMargin;
+    const vec3 normals[PacketFrustum::kPlanes] = {u - su_min * c, su_max * c - u, v - sv_min * c,
+                                                  sv_max * c - v, c, -c};
+    float thresholds[PacketFrustum::kPlanes];  // normal . (x - apex) >= threshold
+    for (int j = 0; j < PacketFrustum::kPlanes; ++j) thresholds[j] = -radius * glm::length(normals[j]);
+    // The far side: nothing of a segment lies beyond its origin.
+    thresholds[5] -= far;
+    const float magnitude = scale + max_component(glm::abs(apex));
     for (int j = 0; j < PacketFrustum::kPlanes; ++j) {
         for (int axis = 0; axis < 3; ++axis) {
             f.normal[j][axis] = normals[j][axis];
             const bool upper = normals[j][axis] > 0.0f;
             f.row[j][axis] = uint32_t(axis) * bvh::kWideWidth + (upper ? 3 * bvh::kWideWidth : 0);
         }
-        f.threshold[j] = -radius * glm::length(normals[j]);
+        // A three-term product rounds by a few ulps of |normal|_1 times the
+        // largest coordinate: a margin well above it.
+        const float norm_1 = std::abs(normals[j].x) + std::abs(normals[j].y) + std::abs(normals[j].z);
+        f.limit[j] = (glm::dot(normals[j], apex) + thresholds[j]) - 1e-5f * (norm_1 * magnitude + std::abs(thresholds[j]));
     }
-    // The far side: nothing of a segment lies beyond its origin.
-    f.threshold[5] -= far;
-    for (int axis = 0; axis < 3; ++axis) f.apex[axis] = apex[axis];
     return true;
 }
 
 // Bit i: child i's box may hold part of some segment of the packet.
 [[gnu::always_inline]] inline uint32_t frustum_box_test(const bvh::WideNode& node, const PacketFrustum& f) {
     const float* rows = node.lower[0];
-    // An empty slot's inverted box would give inf - inf on a plane parallel
-    // to an axis.
-    PacketMask inside = lanes_load(node.lower[0]) <= lanes_load(node.upper[0]);
+    // An empty slot's inverted box would give 0 * inf on a plane parallel
+    // to an axis, or infinities of both signs.
+    NodeMask inside = lanes_load<NodeLanes>(node.lower[0]) <= lanes_load<NodeLanes>(node.upper[0]);
     for (int j = 0; j < PacketFrustum::kPlanes; ++j) {
-        PacketLanes dot = lanes_splat(0.0f), magnitude = lanes_splat(0.0f);
-        for (int axis = 0; axis < 3; ++axis) {
-            const PacketLanes term =
-                (lanes_load(rows + f.row[j][axis]) - lanes_splat(f.apex[axis])) * lanes_splat(f.normal[j][axis]);
-            dot += term;
-            magnitude += lanes_abs(term);
-        }
-        // The sum's rounding is a few ulps of the terms' magnitudes: a box
-        // is outside only past a margin well above it.
-        inside &= dot + lanes_splat(1e-5f) * magnitude >= lanes_splat(f.threshold[j]);
+        const NodeLanes dot = (lanes_load<NodeLanes>(rows + f.row[j][0]) * f.normal[j][0] +
+                               lanes_load<NodeLanes>(rows + f.row[j][1]) * f.normal[j][1]) +
+                              lanes_load<NodeLanes>(rows + f.row[j][2]) * f.normal[j][2];
+        inside &= dot >= f.limit[j];
     }
     return lanes_bits(inside);
 }

@@ -1,36 +1,98 @@
-// Eight float lanes for the packet kernels (packet_setup.inl,
-// packet_traverse.inl, geometry/triangle_rays_test.inl), compiled once per
-// SIMD path inside its ISA namespace: GCC vector extensions, which are AVX2
-// registers in the AVX2 kernels and pairs of SSE2 registers in the generic
-// ones, so one text serves both.
+// Float lanes for the packet kernels (packet_setup.inl, packet_traverse.inl,
+// packet_frustum.inl, geometry/triangle_rays_test.inl), compiled once per SIMD
+// path inside its ISA namespace: GCC vector extensions, so one text serves
+// every path.
+//
+// Two widths: NodeLanes hold one number per child slot of a wide node (8);
+// RayLanes one per ray of a packet, as many as a register holds: 16 in the
+// AVX-512 kernels (one ZMM register, as Embree's 16-ray packets), 8 in the
+// AVX2 ones (one YMM) and in the generic ones (a pair of SSE2 registers).
+// The including file sets kSimdPath: GCC's target pragma does not define
+// __AVX512F__ and the like in C++.
 
-typedef float PacketLanes __attribute__((vector_size(32)));
-typedef int32_t PacketMask __attribute__((vector_size(32)));
+inline constexpr uint32_t kRayLanes = kSimdPath == SimdPath::avx512 ? 16 : 8;
+// Every lane of a RayLanes comparison.
+inline constexpr uint32_t kRayLaneBits = uint32_t((uint64_t(1) << kRayLanes) - 1);
+static_assert(bvh::kPacketSize % kRayLanes == 0);
 
-[[gnu::always_inline]] inline PacketLanes lanes_load(const float* p) {
-    PacketLanes v;
+typedef float NodeLanes __attribute__((vector_size(4 * bvh::kWideWidth)));
+typedef int32_t NodeMask __attribute__((vector_size(4 * bvh::kWideWidth)));
+typedef float RayLanes __attribute__((vector_size(4 * kRayLanes)));
+typedef int32_t RayMask __attribute__((vector_size(4 * kRayLanes)));
+typedef uint32_t RayUints __attribute__((vector_size(4 * kRayLanes)));
+
+// Vectors of a size a template computes: a typedef inside a class template,
+// as GCC does not give a function template's local typedef a dependent
+// vector_size.
+template <uint32_t kBytes>
+struct FloatsOfSize {
+    typedef float type __attribute__((vector_size(kBytes)));
+};
+template <uint32_t kBytes>
+struct IntsOfSize {
+    typedef int32_t type __attribute__((vector_size(kBytes)));
+};
+
+template <typename Lanes>
+[[gnu::always_inline]] inline Lanes lanes_load(const void* p) {
+    Lanes v;
     __builtin_memcpy(&v, p, sizeof v);
     return v;
 }
 
-[[gnu::always_inline]] inline PacketLanes lanes_splat(float x) { return PacketLanes{} + x; }
-
-// Bit i: lane i of a comparison's result is true (all ones). Two SSE
-// movemasks, which AVX2 code compiles to a lane extract and two vmovmskps.
-[[gnu::always_inline]] inline uint32_t lanes_bits(PacketMask m) {
-    __m128 low, high;
-    __builtin_memcpy(&low, &m, sizeof low);
-    __builtin_memcpy(&high, reinterpret_cast<const char*>(&m) + sizeof low, sizeof high);
-    return uint32_t(_mm_movemask_ps(low)) | uint32_t(_mm_movemask_ps(high)) << 4;
+template <typename Lanes>
+[[gnu::always_inline]] inline Lanes lanes_splat(float x) {
+    return Lanes{} + x;
 }
 
-[[gnu::always_inline]] inline void lanes_store(float* p, PacketLanes v) { __builtin_memcpy(p, &v, sizeof v); }
-[[gnu::always_inline]] inline PacketLanes lanes_min(PacketLanes a, PacketLanes b) { return a < b ? a : b; }
-[[gnu::always_inline]] inline PacketLanes lanes_max(PacketLanes a, PacketLanes b) { return a > b ? a : b; }
+// Bit i: lane i of a comparison's result is true (all ones): the lanes' sign
+// bits, 128 bits at a time (SSE2 movemask), or with AVX-512 into a mask
+// register at once, where the comparison that made them put them anyway.
+template <typename Mask>
+[[gnu::always_inline]] inline uint32_t lanes_bits(Mask m) {
+    if constexpr (kSimdPath == SimdPath::avx512 && sizeof(Mask) == 64) {
+        __m512i bits;
+        __builtin_memcpy(&bits, &m, sizeof bits);
+        return uint32_t(_mm512_movepi32_mask(bits));
+    } else if constexpr (kSimdPath == SimdPath::avx512 && sizeof(Mask) == 32) {
+        __m256i bits;
+        __builtin_memcpy(&bits, &m, sizeof bits);
+        return uint32_t(_mm256_movepi32_mask(bits));
+    }
+    uint32_t bits = 0;
+    for (uint32_t quarter = 0; quarter < sizeof(Mask) / 16; ++quarter) {
+        __m128 part;
+        __builtin_memcpy(&part, reinterpret_cast<const char*>(&m) + 16 * quarter, sizeof part);
+        bits |= uint32_t(_mm_movemask_ps(part)) << (4 * quarter);
+    }
+    return bits;
+}
+
+// Lane i all ones where bit i of `bits` is set: lanes_bits' inverse.
+[[gnu::always_inline]] inline RayMask lanes_from_bits(uint32_t bits) {
+    RayMask lane_bit;
+    for (uint32_t i = 0; i < kRayLanes; ++i) lane_bit[i] = int32_t(1u << i);
+    return ((RayMask{} + int32_t(bits)) & lane_bit) != 0;
+}
+
+template <typename Lanes>
+[[gnu::always_inline]] inline void lanes_store(void* p, Lanes v) {
+    __builtin_memcpy(p, &v, sizeof v);
+}
+template <typename Lanes>
+[[gnu::always_inline]] inline Lanes lanes_min(Lanes a, Lanes b) {
+    return a < b ? a : b;
+}
+template <typename Lanes>
+[[gnu::always_inline]] inline Lanes lanes_max(Lanes a, Lanes b) {
+    return a > b ? a : b;
+}
 
 // |x|, lane by lane: the sign bit cleared.
-[[gnu::always_inline]] inline PacketLanes lanes_abs(PacketLanes x) {
-    PacketMask bits;
+template <typename Lanes>
+[[gnu::always_inline]] inline Lanes lanes_abs(Lanes x) {
+    typename IntsOfSize<sizeof(Lanes)>::type bits;
+    static_assert(sizeof bits == sizeof x);
     __builtin_memcpy(&bits, &x, sizeof x);
     bits &= 0x7fffffff;
     __builtin_memcpy(&x, &bits, sizeof x);
@@ -38,18 +100,49 @@ typedef int32_t PacketMask __attribute__((vector_size(32)));
 }
 
 // The largest of |x|, |y| and |z|, lane by lane.
-[[gnu::always_inline]] inline PacketLanes lanes_abs_max(PacketLanes x, PacketLanes y, PacketLanes z) {
+template <typename Lanes>
+[[gnu::always_inline]] inline Lanes lanes_abs_max(Lanes x, Lanes y, Lanes z) {
     return lanes_max(lanes_abs(x), lanes_max(lanes_abs(y), lanes_abs(z)));
 }
 
-// The smallest and the largest lane.
-[[gnu::always_inline]] inline float lanes_low(PacketLanes v) {
-    float low = v[0];
-    for (int i = 1; i < 8; ++i) low = std::min(low, v[i]);
-    return low;
+// The smallest, the largest lane and their sum: halves folded onto each other, so
+// log2(lanes) steps.
+template <typename Lanes>
+[[gnu::always_inline]] inline float lanes_low(Lanes v) {
+    constexpr uint32_t kLanes = sizeof(Lanes) / sizeof(float);
+    if constexpr (kLanes == 1) {
+        return v[0];
+    } else {
+        typedef typename FloatsOfSize<sizeof(Lanes) / 2>::type Half;
+        Half low, high;
+        __builtin_memcpy(&low, &v, sizeof low);
+        __builtin_memcpy(&high, reinterpret_cast<const char*>(&v) + sizeof low, sizeof high);
+        return lanes_low(lanes_min(low, high));
+    }
 }
-[[gnu::always_inline]] inline float lanes_high(PacketLanes v) {
-    float high = v[0];
-    for (int i = 1; i < 8; ++i) high = std::max(high, v[i]);
-    return high;
+template <typename Lanes>
+[[gnu::always_inline]] inline float lanes_high(Lanes v) {
+    constexpr uint32_t kLanes = sizeof(Lanes) / sizeof(float);
+    if constexpr (kLanes == 1) {
+        return v[0];
+    } else {
+        typedef typename FloatsOfSize<sizeof(Lanes) / 2>::type Half;
+        Half low, high;
+        __builtin_memcpy(&low, &v, sizeof low);
+        __builtin_memcpy(&high, reinterpret_cast<const char*>(&v) + sizeof low, sizeof high);
+        return lanes_high(lanes_max(low, high));
+    }
+}
+template <typename Lanes>
+[[gnu::always_inline]] inline float lanes_sum(Lanes v) {
+    constexpr uint32_t kLanes = sizeof(Lanes) / sizeof(float);
+    if constexpr (kLanes == 1) {
+        return v[0];
+    } else {
+        typedef typename FloatsOfSize<sizeof(Lanes) / 2>::type Half;
+        Half low, high;
+        __builtin_memcpy(&low, &v, sizeof low);
+        __builtin_memcpy(&high, reinterpret_cast<const char*>(&v) + sizeof low, sizeof high);
+        return lanes_sum(low + high);
+    }
 }

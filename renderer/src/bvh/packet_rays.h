@@ -29,13 +29,13 @@ struct PacketRays {
     uint32_t count = 0;
     // Each ray, and its WideBoxRay constants, structure of arrays; lanes
     // past `count` copy ray 0, so that every lane computes on numbers.
-    alignas(32) float origin[3][kPacketSize];
-    alignas(32) float direction[3][kPacketSize];
-    alignas(32) float inv_direction[3][kPacketSize];
-    alignas(32) float t_max[kPacketSize];
+    alignas(64) float origin[3][kPacketSize];
+    alignas(64) float direction[3][kPacketSize];
+    alignas(64) float inv_direction[3][kPacketSize];
+    alignas(64) float t_max[kPacketSize];
     // Where each ray still enters boxes and tests triangles: t_max, and past
     // it by bvh::tie_reach once a closest-hit query has found a triangle.
-    alignas(32) float t_cull[kPacketSize];
+    alignas(64) float t_cull[kPacketSize];
     // Shared by every ray: the row of a node each axis' entry plane sits in.
     uint32_t near_row[3];
     uint32_t far_row[3];

@@ -1,4 +1,4 @@
-// A packet's rays into a PacketRays (packet_rays.h), eight lanes at a time,
+// A packet's rays into a PacketRays (packet_rays.h), a register of rays at a time,
 // compiled once per SIMD path inside its ISA namespace after packet_lanes.inl.
 // Setting a packet up ray by ray (a division and a comparison chain per ray
 // and axis) took a third of a camera packet's time on the dragons.
@@ -16,31 +16,59 @@ enum class PacketLoad {
     intervals,
 };
 
+// A Ray is eight floats: one row of an 8 x 8 transpose.
+static_assert(sizeof(Ray) == 8 * sizeof(float) && offsetof(Ray, direction) == 3 * sizeof(float) &&
+              offsetof(Ray, t_max) == 6 * sizeof(float));
+
+// Rays `first` to first + 7 (those past n: ray 0) into the packet's columns,
+// by the 8 x 8 transpose of unpacks, shuffles and 128-bit swaps; element by
+// element, the copy took a tenth of a camera packet's time.
+[[gnu::always_inline]] inline void load_eight_rays(bvh::PacketRays& p, const Ray* rays, uint32_t n, uint32_t first) {
+    typedef int32_t Pick __attribute__((vector_size(32)));
+    NodeLanes r[8], t[8], u[8];
+    for (uint32_t i = 0; i < 8; ++i) __builtin_memcpy(&r[i], &rays[first + i < n ? first + i : 0], sizeof r[i]);
+    for (uint32_t i = 0; i < 8; i += 2) {
+        t[i] = __builtin_shuffle(r[i], r[i + 1], Pick{0, 8, 1, 9, 4, 12, 5, 13});
+        t[i + 1] = __builtin_shuffle(r[i], r[i + 1], Pick{2, 10, 3, 11, 6, 14, 7, 15});
+    }
+    for (uint32_t i = 0; i < 8; i += 4)
+        for (uint32_t k = 0; k < 2; ++k) {
+            u[i + 2 * k] = __builtin_shuffle(t[i + k], t[i + k + 2], Pick{0, 1, 8, 9, 4, 5, 12, 13});
+            u[i + 2 * k + 1] = __builtin_shuffle(t[i + k], t[i + k + 2], Pick{2, 3, 10, 11, 6, 7, 14, 15});
+        }
+    // u[j] (j < 4) holds components j and j + 4 of rays 0-3 and of 4-7 in u[j + 4].
+    NodeLanes column[8];
+    for (uint32_t j = 0; j < 4; ++j) {
+        column[j] = __builtin_shuffle(u[j], u[j + 4], Pick{0, 1, 2, 3, 8, 9, 10, 11});
+        column[j + 4] = __builtin_shuffle(u[j], u[j + 4], Pick{4, 5, 6, 7, 12, 13, 14, 15});
+    }
+    for (int axis = 0; axis < 3; ++axis) {
+        lanes_store(p.origin[axis] + first, column[axis]);
+        lanes_store(p.direction[axis] + first, column[3 + axis]);
+    }
+    lanes_store(p.t_max + first, column[6]);
+    lanes_store(p.t_cull + first, column[6]);
+}
+
 [[gnu::always_inline]] inline PacketLoad load_packet(bvh::PacketRays& p, const Ray* rays, uint32_t n) {
     p.count = n;
-    for (uint32_t i = 0; i < bvh::kPacketSize; ++i) {
-        const Ray& ray = rays[i < n ? i : 0];
-        for (int axis = 0; axis < 3; ++axis) {
-            p.origin[axis][i] = ray.origin[axis];
-            p.direction[axis][i] = ray.direction[axis];
-        }
-        p.t_max[i] = p.t_cull[i] = ray.t_max;
-    }
+    for (uint32_t first = 0; first < bvh::kPacketSize; first += 8) load_eight_rays(p, rays, n, first);
     // Rays from one point (a pinhole camera's) or along one direction (an
     // orthographic one's) make a cone or a beam the intervals bound tightly.
     // Rays from many points in many directions (shadow rays from a tile's
     // hits) do not: each axis' bounds then pair one ray's origin with
     // another's reciprocal, and on the full dragon such packets were 2.5
     // times slower than their rays one by one.
-    PacketMask same_origin = PacketMask{} - 1, same_direction = same_origin;
-    const PacketLanes zero = lanes_splat(0.0f), infinity = lanes_splat(kInfinity);
-    PacketMask usable = same_origin;
-    PacketLanes o_low[3], o_high[3], inv_low[3], inv_high[3];
+    RayMask same_origin = RayMask{} - 1, same_direction = same_origin;
+    const RayLanes zero = lanes_splat<RayLanes>(0.0f), infinity = lanes_splat<RayLanes>(kInfinity);
+    RayMask usable = same_origin;
+    RayLanes o_low[3], o_high[3], inv_low[3], inv_high[3];
     for (int axis = 0; axis < 3; ++axis) {
-        const PacketLanes o0 = lanes_splat(p.origin[axis][0]), d0 = lanes_splat(p.direction[axis][0]);
-        for (uint32_t first = 0; first < bvh::kPacketSize; first += 8) {
-            const PacketLanes o = lanes_load(p.origin[axis] + first), d = lanes_load(p.direction[axis] + first);
-            const PacketLanes inv = lanes_splat(1.0f) / d;
+        const RayLanes o0 = lanes_splat<RayLanes>(p.origin[axis][0]), d0 = lanes_splat<RayLanes>(p.direction[axis][0]);
+        for (uint32_t first = 0; first < bvh::kPacketSize; first += kRayLanes) {
+            const RayLanes o = lanes_load<RayLanes>(p.origin[axis] + first),
+                           d = lanes_load<RayLanes>(p.direction[axis] + first);
+            const RayLanes inv = lanes_splat<RayLanes>(1.0f) / d;
             lanes_store(p.inv_direction[axis] + first, inv);
             same_origin &= o == o0;
             same_direction &= d == d0;
@@ -51,8 +79,8 @@ enum class PacketLoad {
             inv_high[axis] = first == 0 ? inv : lanes_max(inv_high[axis], inv);
         }
     }
-    if (lanes_bits(usable) != 0xffu) return PacketLoad::refused;
-    if (lanes_bits(same_origin) != 0xffu && lanes_bits(same_direction) != 0xffu) return PacketLoad::rays;
+    if (lanes_bits(usable) != kRayLaneBits) return PacketLoad::refused;
+    if (lanes_bits(same_origin) != kRayLaneBits && lanes_bits(same_direction) != kRayLaneBits) return PacketLoad::rays;
     for (int axis = 0; axis < 3; ++axis) {
         const float low = lanes_low(inv_low[axis]), high = lanes_high(inv_high[axis]);
         const bool negative = high < 0.0f;

@@ -12,45 +12,45 @@
 [[gnu::always_inline]] inline uint32_t packet_box_test(const bvh::WideNode& node, const bvh::PacketRays& p,
                                                        float t_max, float* t_entry) {
     const float* rows = node.lower[0];
-    PacketLanes enter = lanes_splat(0.0f);
-    PacketLanes exit = lanes_splat(t_max);
+    NodeLanes enter = lanes_splat<NodeLanes>(0.0f);
+    NodeLanes exit = lanes_splat<NodeLanes>(t_max);
     for (int axis = 0; axis < 3; ++axis) {
-        const PacketLanes low = lanes_splat(p.inv_low[axis]), high = lanes_splat(p.inv_high[axis]);
+        const NodeLanes low = lanes_splat<NodeLanes>(p.inv_low[axis]), high = lanes_splat<NodeLanes>(p.inv_high[axis]);
         // The corners of the interval product: rounding is monotone, so these
         // bound every ray's rounded distances too.
-        const PacketLanes to_near = lanes_load(rows + p.near_row[axis]) - lanes_splat(p.near_origin[axis]);
-        const PacketLanes near_low = to_near * low, near_high = to_near * high;
-        const PacketLanes t_near = near_low < near_high ? near_low : near_high;
-        const PacketLanes to_far = lanes_load(rows + p.far_row[axis]) - lanes_splat(p.far_origin[axis]);
-        const PacketLanes far_low = to_far * low, far_high = to_far * high;
-        const PacketLanes t_far = (far_low > far_high ? far_low : far_high) * lanes_splat(bvh::kExitScale);
+        const NodeLanes to_near = lanes_load<NodeLanes>(rows + p.near_row[axis]) - p.near_origin[axis];
+        const NodeLanes near_low = to_near * low, near_high = to_near * high;
+        const NodeLanes t_near = near_low < near_high ? near_low : near_high;
+        const NodeLanes to_far = lanes_load<NodeLanes>(rows + p.far_row[axis]) - p.far_origin[axis];
+        const NodeLanes far_low = to_far * low, far_high = to_far * high;
+        const NodeLanes t_far = (far_low > far_high ? far_low : far_high) * bvh::kExitScale;
         enter = t_near > enter ? t_near : enter;
         exit = t_far < exit ? t_far : exit;
     }
     __builtin_memcpy(t_entry, &enter, sizeof enter);
-    return lanes_bits((enter <= exit) & (enter < lanes_splat(t_max)));
+    return lanes_bits((enter <= exit) & (enter < t_max));
 }
 
 // Which of the rays in `rays` enter child `slot`'s box before their own
-// t_cull: wide_box_test's operations in its order, eight rays a pass. Each
+// t_cull: wide_box_test's operations in its order, a register of rays a pass. Each
 // ray's entry plane is the one it meets first, whichever way it runs: with a
 // finite reciprocal (load_packet checks) the two distances are ordered as
 // the ray's own choice of planes orders them, bit for bit.
 [[gnu::always_inline]] inline uint32_t rays_entering(const bvh::WideNode& node, uint32_t slot,
                                                      const bvh::PacketRays& p, uint32_t rays) {
     uint32_t entering = 0;
-    for (uint32_t first = 0; first < p.count; first += 8) {
-        if (((rays >> first) & 0xffu) == 0) continue;
-        PacketLanes enter = lanes_splat(0.0f);
-        PacketLanes t_max = lanes_load(p.t_cull + first);
-        PacketLanes exit = t_max;
+    for (uint32_t first = 0; first < p.count; first += kRayLanes) {
+        if (((rays >> first) & kRayLaneBits) == 0) continue;
+        RayLanes enter = lanes_splat<RayLanes>(0.0f);
+        RayLanes t_max = lanes_load<RayLanes>(p.t_cull + first);
+        RayLanes exit = t_max;
         for (int axis = 0; axis < 3; ++axis) {
-            const PacketLanes origin = lanes_load(p.origin[axis] + first);
-            const PacketLanes inv = lanes_load(p.inv_direction[axis] + first);
-            const PacketLanes t_lower = (lanes_splat(node.lower[axis][slot]) - origin) * inv;
-            const PacketLanes t_upper = (lanes_splat(node.upper[axis][slot]) - origin) * inv;
-            const PacketLanes t_near = lanes_min(t_lower, t_upper);
-            const PacketLanes t_far = lanes_max(t_lower, t_upper) * lanes_splat(bvh::kExitScale);
+            const RayLanes origin = lanes_load<RayLanes>(p.origin[axis] + first);
+            const RayLanes inv = lanes_load<RayLanes>(p.inv_direction[axis] + first);
+            const RayLanes t_lower = (node.lower[axis][slot] - origin) * inv;
+            const RayLanes t_upper = (node.upper[axis][slot] - origin) * inv;
+            const RayLanes t_near = lanes_min(t_lower, t_upper);
+            const RayLanes t_far = lanes_max(t_lower, t_upper) * bvh::kExitScale;
             enter = t_near > enter ? t_near : enter;
             exit = t_far < exit ? t_far : exit;
         }
@@ -68,9 +68,10 @@ struct PacketPending {
 
 // The largest t_cull of the rays in `rays`: no ray of the packet looks further.
 [[gnu::always_inline]] inline float packet_reach(const bvh::PacketRays& p, uint32_t rays) {
-    float reach = 0.0f;
-    for (; rays != 0; rays &= rays - 1) reach = std::max(reach, p.t_cull[__builtin_ctz(rays)]);
-    return reach;
+    RayLanes reach = {};
+    for (uint32_t first = 0; first < bvh::kPacketSize; first += kRayLanes)
+        reach = lanes_max(reach, lanes_from_bits(rays >> first) ? lanes_load<RayLanes>(p.t_cull + first) : RayLanes{});
+    return lanes_high(reach);
 }
 
 // node_test(node, reach, t_entry) says which children some ray of the

@@ -19,7 +19,8 @@ enum class Query { closest_hit, any_hit };
 // it, is still met. The answer, the nearest hit with ties going to the lower
 // triangle number, then does not depend on the order of the traversal, so
 // the packet and the single-ray queries agree.
-inline float tie_reach(float t) { return t + t * 0x1p-20f; }
+inline constexpr float kTieReach = 0x1p-20f;  // the packet kernels' lanes use it too
+inline float tie_reach(float t) { return t + t * kTieReach; }
 
 // Sees every node whose box a traversal tests. The default one compiles away,
 // so the plain queries pay nothing for the debugger's.

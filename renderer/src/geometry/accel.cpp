@@ -35,7 +35,12 @@ constexpr double kBlockCost = 1.0;
 
 const AccelKernels& kernels_for(SimdPath path) {
     if (!cpu_supports(path)) throw std::runtime_error(std::string("SIMD path ") + to_string(path) + " is not supported by this CPU");
-    return path == SimdPath::avx2 ? avx2::kKernels : generic::kKernels;
+    switch (path) {
+        case SimdPath::avx512: return avx512::kKernels;
+        case SimdPath::avx2: return avx2::kKernels;
+        case SimdPath::generic: break;
+    }
+    return generic::kKernels;
 }
 
 // One tree over scene.triangles[first, first + count), in whatever space

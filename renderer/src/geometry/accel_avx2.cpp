@@ -17,6 +17,7 @@
 #include "geometry/sphere.h"
 #include "geometry/surface_material.h"
 #include "geometry/triangle_block_test.h"
+#include "util/cpu_features.h"
 
 #pragma GCC push_options
 #pragma GCC target("avx2,bmi,bmi2,popcnt")
@@ -26,6 +27,8 @@ namespace rt::avx2 {
 #include "bvh/wide_box_test_avx2.inl"
 #include "geometry/triangle_block_test_avx2.inl"
 #include "bvh/wide_traverse.inl"
+// Which path these kernels are (bvh/packet_lanes.inl sizes its registers by it).
+inline constexpr SimdPath kSimdPath = SimdPath::avx2;
 #include "bvh/packet_lanes.inl"
 #include "bvh/packet_setup.inl"
 #include "bvh/packet_frustum.inl"

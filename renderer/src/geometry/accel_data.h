@@ -106,5 +106,6 @@ struct AccelKernels {
 
 namespace generic { extern const AccelKernels kKernels; }
 namespace avx2 { extern const AccelKernels kKernels; }
+namespace avx512 { extern const AccelKernels kKernels; }
 
 }  // namespace rt

@@ -1,4 +1,8 @@
 // The ray query kernels for any x86-64: SSE2 box and triangle tests.
+// (immintrin.h: packet_lanes.inl names an AVX-512 intrinsic that only the
+// AVX-512 kernels instantiate.)
+#include <immintrin.h>
+
 #include <new>
 #include <type_traits>
 
@@ -9,6 +13,7 @@
 #include "geometry/sphere.h"
 #include "geometry/surface_material.h"
 #include "geometry/triangle_block_test.h"
+#include "util/cpu_features.h"
 
 // The packet kernels' 32-byte vectors (packet_lanes.inl) live only in
 // inlined functions, so GCC's note that SSE2 code passes them otherwise than
@@ -29,6 +34,8 @@ template <bool kMoving>
 }
 
 #include "bvh/wide_traverse.inl"
+// Which path these kernels are (bvh/packet_lanes.inl sizes its registers by it).
+inline constexpr SimdPath kSimdPath = SimdPath::generic;
 #include "bvh/packet_lanes.inl"
 #include "bvh/packet_setup.inl"
 #include "bvh/packet_frustum.inl"

@@ -9,26 +9,27 @@
 
 #include "geometry/triangle_rays_test.inl"
 
-// A group of eight rays of which fewer than this enter a leaf takes it ray by
-// ray, four triangles a lane: a triangle against eight lanes of mostly
-// absent rays wastes them.
-inline constexpr uint32_t kRaysPerTriangleTest = 6;
+// A register's group of rays (8 or 16) of which fewer than this share enter
+// a leaf takes it ray by ray, four triangles a lane: a triangle against
+// lanes of mostly absent rays wastes them.
+inline constexpr uint32_t kRaysPerTriangleTest = kRayLanes / 2;
 
-// The rays of `in` that take the leaf a triangle at a time, eight rays a test.
+// The rays of `in` that take the leaf a triangle at a time, a register of rays a test.
 [[gnu::always_inline]] inline uint32_t rays_by_triangle(const PacketShear& s, uint32_t in) {
     if (!s.shared) return 0;
     uint32_t by_triangle = 0;
-    for (uint32_t first = 0; first < bvh::kPacketSize; first += 8) {
-        const uint32_t group = in & (0xffu << first);
+    for (uint32_t first = 0; first < bvh::kPacketSize; first += kRayLanes) {
+        const uint32_t group = in & (kRayLaneBits << first);
         if (uint32_t(__builtin_popcount(group)) >= kRaysPerTriangleTest) by_triangle |= group;
     }
     return by_triangle;
 }
 
-// Calls found(ray, triangle, hit lanes' t, u, v, lane) for each ray of `in`
-// that meets a triangle of the leaf nearer than its t_max, triangle after
-// triangle in leaf order, eight rays a test; returns the rays left in `in`
-// (found returns whether the ray leaves the packet).
+// Tests the rays of `in` against the leaf's triangles, one triangle at a
+// time in leaf order, a register of rays a test. For each test some ray
+// passes, calls found(first, hit, triangle, hits): `hit` has bit i for ray
+// first + i, whose t, u and v are lane i of `hits`; it returns the bits of
+// the rays that leave the packet. Returns the rays left in `in`.
 template <typename Found>
 [[gnu::always_inline]] inline uint32_t leaf_by_triangle(const AccelData& data, const bvh::PacketRays& p,
                                                         const PacketShear& s, uint32_t first_block,
@@ -38,16 +39,12 @@ template <typename Found>
         for (uint32_t lane = 0; lane < bvh::kBlockWidth; ++lane) {
             if (!block.lane_used(lane)) continue;
             const vec3 p0 = block.vertex(lane, 0), p1 = block.vertex(lane, 1), p2 = block.vertex(lane, 2);
-            for (uint32_t first = 0; first < p.count; first += 8) {
-                const uint32_t rays = (in >> first) & 0xffu;
+            for (uint32_t first = 0; first < p.count; first += kRayLanes) {
+                const uint32_t rays = (in >> first) & kRayLaneBits;
                 if (rays == 0) continue;
                 RaysHits hits;
-                for (uint32_t hit = intersect_triangle_rays(p, s, first, rays, p0, p1, p2, hits); hit != 0;
-                     hit &= hit - 1) {
-                    const uint32_t l = uint32_t(__builtin_ctz(hit));
-                    if (found(first + l, block.triangle(lane), hits.t[l], hits.u[l], hits.v[l]))
-                        in &= ~(1u << (first + l));
-                }
+                if (const uint32_t hit = intersect_triangle_rays(p, s, first, rays, p0, p1, p2, hits))
+                    in &= ~(found(first, hit, block.triangle(lane), hits) << first);
                 if (in == 0) return 0;
             }
         }
@@ -55,43 +52,70 @@ template <typename Found>
     return in;
 }
 
+// The triangles a closest-hit packet query has found, structure of arrays
+// (the distances are the packet's t_max): updated a register of rays at a
+// time, as the packet's t_max and t_cull are read, since single-lane stores
+// that a wide load then reads stall it.
+struct PacketNearest {
+    alignas(64) uint32_t primitive[bvh::kPacketSize];
+    alignas(64) float u[bvh::kPacketSize];
+    alignas(64) float v[bvh::kPacketSize];
+
+    PacketNearest() { std::fill_n(primitive, bvh::kPacketSize, kNoPrimitive); }
+};
+
+// Takes the hits of `hit` that are nearer, or as near and of a lower
+// triangle number (closest_in_leaf's rule, bvh::tie_reach), for rays first on.
+[[gnu::always_inline]] inline void keep_nearer(bvh::PacketRays& p, PacketNearest& nearest, uint32_t first,
+                                               uint32_t hit, uint32_t triangle, const RaysHits& hits) {
+    const RayLanes t_max = lanes_load<RayLanes>(p.t_max + first);
+    const RayUints primitive = lanes_load<RayUints>(nearest.primitive + first);
+    const RayMask found = primitive != kNoPrimitive;
+    const RayMask nearer =
+        lanes_from_bits(hit) & ((hits.t < t_max) | ((hits.t == t_max) & found & (triangle < primitive)));
+    lanes_store(p.t_max + first, nearer ? hits.t : t_max);
+    const RayLanes tie_reach = hits.t + hits.t * bvh::kTieReach;  // bvh::tie_reach, lane by lane
+    lanes_store(p.t_cull + first, nearer ? tie_reach : lanes_load<RayLanes>(p.t_cull + first));
+    lanes_store(nearest.primitive + first, nearer ? RayUints{} + triangle : primitive);
+    lanes_store(nearest.u + first, nearer ? hits.u : lanes_load<RayLanes>(nearest.u + first));
+    lanes_store(nearest.v + first, nearer ? hits.v : lanes_load<RayLanes>(nearest.v + first));
+}
+
 // A still, opaque world tree only: the caller checks. The rays' hits so far
 // (spheres) stay where no triangle is nearer.
 [[gnu::flatten]] inline void closest_packet(const AccelData& data, bvh::PacketRays& p, Hit* hits) {
     const PacketShear shear(p);
     SilentObserver none;
-    Hit nearest[bvh::kPacketSize];  // the triangles', as closest_triangle keeps its own
+    PacketNearest nearest;  // the triangles', as closest_triangle keeps its own
     const auto intervals = [&](const bvh::WideNode& node, float reach, float* t_entry) {
         return packet_box_test(node, p, reach, t_entry);
     };
     traverse_packet<bvh::Query::closest_hit>(data.bvh, p, (1u << p.count) - 1, intervals, [&](uint32_t first_block,
                                                                                           uint32_t block_count,
                                                                                           uint32_t in) {
+
         prefetch_blocks<false>(data, bvh::ChildRef::leaf(first_block, block_count));
         if (const uint32_t by_triangle = rays_by_triangle(shear, in)) {
-            // closest_in_leaf's rule: the nearer hit, or at the same distance
-            // the lower triangle number (bvh::tie_reach).
             leaf_by_triangle(data, p, shear, first_block, block_count, by_triangle,
-                             [&](uint32_t r, uint32_t triangle, float t, float u, float v) {
-                                 if (t < p.t_max[r] ||
-                                     (t == p.t_max[r] && nearest[r].found() && triangle < nearest[r].primitive)) {
-                                     p.t_max[r] = t;
-                                     p.t_cull[r] = bvh::tie_reach(t);
-                                     nearest[r] = {t, triangle, u, v};
-                                 }
-                                 return false;
+                             [&](uint32_t first, uint32_t hit, uint32_t triangle, const RaysHits& found) {
+                                 keep_nearer(p, nearest, first, hit, triangle, found);
+                                 return 0u;
                              });
             in &= ~by_triangle;
         }
         for (; in != 0; in &= in - 1) {
             const uint32_t r = uint32_t(__builtin_ctz(in));
+            Hit ray_nearest{p.t_max[r], nearest.primitive[r], nearest.u[r], nearest.v[r]};
             if (closest_in_leaf<false, false>(data, WatertightRay4(shear.ray(r)), first_block, block_count, 0.0f,
-                                              p.t_max[r], nearest[r], none))
+                                              p.t_max[r], ray_nearest, none)) {
                 p.t_cull[r] = bvh::tie_reach(p.t_max[r]);
+                nearest.primitive[r] = ray_nearest.primitive, nearest.u[r] = ray_nearest.u, nearest.v[r] = ray_nearest.v;
+            }
         }
+
     });
     for (uint32_t r = 0; r < p.count; ++r)
-        if (nearest[r].found()) hits[r] = nearest[r];
+        if (nearest.primitive[r] != kNoPrimitive) hits[r] = {p.t_max[r], nearest.primitive[r], nearest.u[r], nearest.v[r]};
 }
 
 // Returns the rays (a mask of those in `active`) an opaque triangle stops.
@@ -108,7 +132,9 @@ template <typename NodeTest>
         uint32_t stopped_here = 0;
         if (const uint32_t by_triangle = rays_by_triangle(shear, in)) {
             stopped_here = by_triangle & ~leaf_by_triangle(data, p, shear, first_block, block_count, by_triangle,
-                                                           [](uint32_t, uint32_t, float, float, float) { return true; });
+                                                           [](uint32_t, uint32_t hit, uint32_t, const RaysHits&) {
+                                                               return hit;
+                                                           });
             in &= ~by_triangle;
         }
         for (; in != 0; in &= in - 1) {
@@ -123,6 +149,7 @@ template <typename NodeTest>
     });
     return stopped;
 }
+
 
 bool intersect_packet_with(const AccelScene& accel, const Ray* rays, uint32_t count, Hit* hits) {
     bvh::PacketRays p;
@@ -145,7 +172,8 @@ bool visibility_packet_with(const AccelScene& accel, const Ray* rays, uint32_t c
     bvh::PacketRays p;
     PacketFrustum frustum;
     const PacketLoad load = count < 2 || !accel.packets_serve() ? PacketLoad::refused : load_packet(p, rays, count);
-    if (load == PacketLoad::refused || (load == PacketLoad::rays && !make_frustum(frustum, p))) {
+    if (load == PacketLoad::refused ||
+        (load == PacketLoad::rays && !make_frustum(frustum, p, tree_scale(accel.world.bvh)))) {
         for (uint32_t i = 0; i < count; ++i) visibility[i] = visibility_with(accel, rays[i], SilentObserver{});
         return false;
     }

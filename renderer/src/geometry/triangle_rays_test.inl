@@ -1,4 +1,4 @@
-// One triangle against eight rays of a packet at once: the watertight test
+// One triangle against a register of a packet's rays (8 or 16) at once: the watertight test
 // (triangle.h) with the SIMD lanes over rays instead of over triangles, as
 // Embree's packet kernels test one triangle against a whole packet. Lane by
 // lane it performs the scalar test's float operations in the same order, and
@@ -18,9 +18,9 @@ struct PacketShear {
     const bvh::PacketRays& p;
     bool shared;  // every ray has the axes below
     int kx, ky, kz;
-    alignas(32) float sx[bvh::kPacketSize];
-    alignas(32) float sy[bvh::kPacketSize];
-    alignas(32) float sz[bvh::kPacketSize];
+    alignas(64) float sx[bvh::kPacketSize];
+    alignas(64) float sy[bvh::kPacketSize];
+    alignas(64) float sz[bvh::kPacketSize];
 
     explicit PacketShear(const bvh::PacketRays& packet) : p(packet) {
         const WatertightRay first(ray_at(0));
@@ -29,18 +29,18 @@ struct PacketShear {
         // and ky for a negative d[kz], lane by lane.
         const bool first_negative = p.direction[kz][0] < 0.0f;
         shared = true;
-        for (uint32_t lane = 0; lane < bvh::kPacketSize; lane += 8) {
-            const PacketLanes x = lanes_abs(lanes_load(p.direction[0] + lane)),
-                              y = lanes_abs(lanes_load(p.direction[1] + lane)),
-                              z = lanes_abs(lanes_load(p.direction[2] + lane));
-            const PacketMask x_over_y = x > y, x_largest = x_over_y & (x > z), y_largest = ~x_over_y & (y > z);
-            const PacketMask largest = kz == 0 ? x_largest : kz == 1 ? y_largest : ~(x_largest | y_largest);
-            const PacketLanes dz = lanes_load(p.direction[kz] + lane);
-            const PacketMask negative = dz < lanes_splat(0.0f);
-            shared = shared && lanes_bits(largest & (first_negative ? negative : ~negative)) == 0xffu;
-            lanes_store(sx + lane, lanes_load(p.direction[kx] + lane) / dz);
-            lanes_store(sy + lane, lanes_load(p.direction[ky] + lane) / dz);
-            lanes_store(sz + lane, lanes_splat(1.0f) / dz);
+        for (uint32_t lane = 0; lane < bvh::kPacketSize; lane += kRayLanes) {
+            const RayLanes x = lanes_abs(lanes_load<RayLanes>(p.direction[0] + lane)),
+                              y = lanes_abs(lanes_load<RayLanes>(p.direction[1] + lane)),
+                              z = lanes_abs(lanes_load<RayLanes>(p.direction[2] + lane));
+            const RayMask x_over_y = x > y, x_largest = x_over_y & (x > z), y_largest = ~x_over_y & (y > z);
+            const RayMask largest = kz == 0 ? x_largest : kz == 1 ? y_largest : ~(x_largest | y_largest);
+            const RayLanes dz = lanes_load<RayLanes>(p.direction[kz] + lane);
+            const RayMask negative = dz < lanes_splat<RayLanes>(0.0f);
+            shared = shared && lanes_bits(largest & (first_negative ? negative : ~negative)) == kRayLaneBits;
+            lanes_store(sx + lane, lanes_load<RayLanes>(p.direction[kx] + lane) / dz);
+            lanes_store(sy + lane, lanes_load<RayLanes>(p.direction[ky] + lane) / dz);
+            lanes_store(sz + lane, lanes_splat<RayLanes>(1.0f) / dz);
         }
     }
 
@@ -63,70 +63,70 @@ struct PacketShear {
 };
 
 struct RaysHits {
-    PacketLanes t, u, v;
+    RayLanes t, u, v;
 };
 
 // Bit i set: ray first + i hits the triangle with 0 < t < t_cull[i]; hits.t/u/v
-// lane i then hold its hit. `rays` (8 bits) says which lanes to test; the
+// lane i then hold its hit. `rays` (kRayLanes bits) says which lanes to test; the
 // others answer nothing.
 [[gnu::always_inline]] inline uint32_t intersect_triangle_rays(const bvh::PacketRays& p, const PacketShear& s,
                                                                uint32_t first, uint32_t rays, vec3 p0, vec3 p1,
                                                                vec3 p2, RaysHits& hits) {
-    const PacketLanes ox = lanes_load(p.origin[s.kx] + first), oy = lanes_load(p.origin[s.ky] + first),
-                      oz = lanes_load(p.origin[s.kz] + first);
-    const PacketLanes sx = lanes_load(s.sx + first), sy = lanes_load(s.sy + first);
-    const PacketLanes a_z = lanes_splat(p0[s.kz]) - oz, b_z = lanes_splat(p1[s.kz]) - oz,
-                      c_z = lanes_splat(p2[s.kz]) - oz;
-    const PacketLanes ax = (lanes_splat(p0[s.kx]) - ox) - sx * a_z;
-    const PacketLanes ay = (lanes_splat(p0[s.ky]) - oy) - sy * a_z;
-    const PacketLanes bx = (lanes_splat(p1[s.kx]) - ox) - sx * b_z;
-    const PacketLanes by = (lanes_splat(p1[s.ky]) - oy) - sy * b_z;
-    const PacketLanes cx = (lanes_splat(p2[s.kx]) - ox) - sx * c_z;
-    const PacketLanes cy = (lanes_splat(p2[s.ky]) - oy) - sy * c_z;
+    const RayLanes ox = lanes_load<RayLanes>(p.origin[s.kx] + first), oy = lanes_load<RayLanes>(p.origin[s.ky] + first),
+                      oz = lanes_load<RayLanes>(p.origin[s.kz] + first);
+    const RayLanes sx = lanes_load<RayLanes>(s.sx + first), sy = lanes_load<RayLanes>(s.sy + first);
+    const RayLanes a_z = lanes_splat<RayLanes>(p0[s.kz]) - oz, b_z = lanes_splat<RayLanes>(p1[s.kz]) - oz,
+                      c_z = lanes_splat<RayLanes>(p2[s.kz]) - oz;
+    const RayLanes ax = (lanes_splat<RayLanes>(p0[s.kx]) - ox) - sx * a_z;
+    const RayLanes ay = (lanes_splat<RayLanes>(p0[s.ky]) - oy) - sy * a_z;
+    const RayLanes bx = (lanes_splat<RayLanes>(p1[s.kx]) - ox) - sx * b_z;
+    const RayLanes by = (lanes_splat<RayLanes>(p1[s.ky]) - oy) - sy * b_z;
+    const RayLanes cx = (lanes_splat<RayLanes>(p2[s.kx]) - ox) - sx * c_z;
+    const RayLanes cy = (lanes_splat<RayLanes>(p2[s.ky]) - oy) - sy * c_z;
 
-    const PacketLanes e0 = cx * by - cy * bx;
-    const PacketLanes e1 = ax * cy - ay * cx;
-    const PacketLanes e2 = bx * ay - by * ax;
+    const RayLanes e0 = cx * by - cy * bx;
+    const RayLanes e1 = ax * cy - ay * cx;
+    const RayLanes e2 = bx * ay - by * ax;
 
-    const PacketLanes zero = lanes_splat(0.0f);
+    const RayLanes zero = lanes_splat<RayLanes>(0.0f);
     const uint32_t exact_zero = lanes_bits((e0 == zero) | (e1 == zero) | (e2 == zero)) & rays;
-    const PacketMask negative = (e0 < zero) | (e1 < zero) | (e2 < zero);
-    const PacketMask positive = (e0 > zero) | (e1 > zero) | (e2 > zero);
-    const PacketLanes det = (e0 + e1) + e2;
-    PacketMask reject = (negative & positive) | (det == zero);
+    const RayMask negative = (e0 < zero) | (e1 < zero) | (e2 < zero);
+    const RayMask positive = (e0 > zero) | (e1 > zero) | (e2 > zero);
+    const RayLanes det = (e0 + e1) + e2;
+    RayMask reject = (negative & positive) | (det == zero);
     // Most rays that reach a leaf miss most of its triangles: leave before
     // the division and the error bound.
     const uint32_t candidates = ~lanes_bits(reject) & rays & ~exact_zero;
     uint32_t hit_lanes = 0;
     if (candidates != 0) {
-        const PacketLanes sz = lanes_load(s.sz + first);
-        const PacketLanes t_max = lanes_load(p.t_cull + first);
-        const PacketLanes az = sz * a_z, bz = sz * b_z, cz = sz * c_z;
-        const PacketLanes t_scaled = (e0 * az + e1 * bz) + e2 * cz;
-        const PacketLanes t_max_det = t_max * det;
-        const PacketMask det_negative = det < zero;
-        const PacketMask out_if_negative = (t_scaled >= zero) | (t_scaled < t_max_det);
-        const PacketMask out_if_positive = (t_scaled <= zero) | (t_scaled > t_max_det);
+        const RayLanes sz = lanes_load<RayLanes>(s.sz + first);
+        const RayLanes t_max = lanes_load<RayLanes>(p.t_cull + first);
+        const RayLanes az = sz * a_z, bz = sz * b_z, cz = sz * c_z;
+        const RayLanes t_scaled = (e0 * az + e1 * bz) + e2 * cz;
+        const RayLanes t_max_det = t_max * det;
+        const RayMask det_negative = det < zero;
+        const RayMask out_if_negative = (t_scaled >= zero) | (t_scaled < t_max_det);
+        const RayMask out_if_positive = (t_scaled <= zero) | (t_scaled > t_max_det);
         reject |= (det_negative & out_if_negative) | (~det_negative & out_if_positive);
 
-        const PacketLanes inv_det = lanes_splat(1.0f) / det;
-        const PacketLanes t = t_scaled * inv_det;
+        const RayLanes inv_det = lanes_splat<RayLanes>(1.0f) / det;
+        const RayLanes t = t_scaled * inv_det;
         hit_lanes = lanes_bits(~reject & (t < t_max)) & candidates;
         if (hit_lanes != 0) {
             // The conservative bound on t's rounding error (pbrt-v4, section 6.8.6).
-            const PacketLanes max_zt = lanes_abs_max(az, bz, cz);
-            const PacketLanes max_xt = lanes_abs_max(ax, bx, cx);
-            const PacketLanes max_yt = lanes_abs_max(ay, by, cy);
-            const PacketLanes gamma2 = lanes_splat(gamma_bound(2)), gamma3 = lanes_splat(gamma_bound(3)),
-                              gamma5 = lanes_splat(gamma_bound(5));
-            const PacketLanes delta_z = gamma3 * max_zt;
-            const PacketLanes delta_x = gamma5 * (max_xt + max_zt);
-            const PacketLanes delta_y = gamma5 * (max_yt + max_zt);
-            const PacketLanes delta_e =
-                lanes_splat(2.0f) * ((gamma2 * max_xt * max_yt + delta_y * max_xt) + delta_x * max_yt);
-            const PacketLanes max_e = lanes_abs_max(e0, e1, e2);
-            const PacketLanes delta_t =
-                lanes_splat(3.0f) * ((gamma3 * max_e * max_zt + delta_e * max_zt) + delta_z * max_e) * lanes_abs(inv_det);
+            const RayLanes max_zt = lanes_abs_max(az, bz, cz);
+            const RayLanes max_xt = lanes_abs_max(ax, bx, cx);
+            const RayLanes max_yt = lanes_abs_max(ay, by, cy);
+            const RayLanes gamma2 = lanes_splat<RayLanes>(gamma_bound(2)), gamma3 = lanes_splat<RayLanes>(gamma_bound(3)),
+                              gamma5 = lanes_splat<RayLanes>(gamma_bound(5));
+            const RayLanes delta_z = gamma3 * max_zt;
+            const RayLanes delta_x = gamma5 * (max_xt + max_zt);
+            const RayLanes delta_y = gamma5 * (max_yt + max_zt);
+            const RayLanes delta_e =
+                lanes_splat<RayLanes>(2.0f) * ((gamma2 * max_xt * max_yt + delta_y * max_xt) + delta_x * max_yt);
+            const RayLanes max_e = lanes_abs_max(e0, e1, e2);
+            const RayLanes delta_t =
+                lanes_splat<RayLanes>(3.0f) * ((gamma3 * max_e * max_zt + delta_e * max_zt) + delta_z * max_e) * lanes_abs(inv_det);
             hit_lanes &= ~lanes_bits(t <= delta_t);
             hits.t = t;
             hits.u = e1 * inv_det;

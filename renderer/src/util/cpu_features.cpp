@@ -9,14 +9,19 @@ namespace {
 
 SimdPath choose_path() {
     const char* forced = std::getenv("RT_SIMD");
-    if (forced == nullptr || *forced == '\0') return cpu_supports(SimdPath::avx2) ? SimdPath::avx2 : SimdPath::generic;
-    for (SimdPath path : {SimdPath::generic, SimdPath::avx2}) {
+    if (forced == nullptr || *forced == '\0') {
+        SimdPath widest = SimdPath::generic;
+        for (SimdPath path : kSimdPaths)
+            if (cpu_supports(path)) widest = path;
+        return widest;
+    }
+    for (SimdPath path : kSimdPaths) {
         if (std::string(forced) != to_string(path)) continue;
         if (!cpu_supports(path))
             throw std::runtime_error(std::string("RT_SIMD=") + forced + ": this CPU does not support it");
         return path;
     }
-    throw std::runtime_error(std::string("RT_SIMD=") + forced + ": unknown SIMD path (use generic or avx2)");
+    throw std::runtime_error(std::string("RT_SIMD=") + forced + ": unknown SIMD path (use generic, avx2 or avx512)");
 }
 
 }  // namespace
@@ -28,6 +33,11 @@ bool cpu_supports(SimdPath path) {
         case SimdPath::avx2:
             return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("bmi") &&
                    __builtin_cpu_supports("bmi2") && __builtin_cpu_supports("popcnt");
+        // GCC's check of AVX-512 includes the OS's saving of the ZMM and mask registers.
+        case SimdPath::avx512:
+            return cpu_supports(SimdPath::avx2) && __builtin_cpu_supports("avx512f") &&
+                   __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512bw") &&
+                   __builtin_cpu_supports("avx512dq");
     }
     return false;
 }
@@ -36,6 +46,7 @@ const char* to_string(SimdPath path) {
     switch (path) {
         case SimdPath::generic: return "generic";
         case SimdPath::avx2: return "avx2";
+        case SimdPath::avx512: return "avx512";
     }
     return "unknown";
 }

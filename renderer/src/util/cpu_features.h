@@ -9,10 +9,14 @@ namespace rt {
 enum class SimdPath {
     generic,  // SSE2, which every x86-64 has
     avx2,     // AVX2 with BMI1/2, FMA-free: Haswell (2013) and Zen on
+    avx512,   // AVX-512 F/VL/BW/DQ besides: Skylake-SP (2017) and Zen 4 on
 };
 
+// Narrowest first.
+inline constexpr SimdPath kSimdPaths[] = {SimdPath::generic, SimdPath::avx2, SimdPath::avx512};
+
 // The widest path the CPU and OS support, unless RT_SIMD names a narrower
-// one ("generic" or "avx2"). An unknown name, or a path the CPU lacks, is an
+// one ("generic", "avx2" or "avx512"). An unknown name, or a path the CPU lacks, is an
 // error thrown on first use; decided once per process.
 SimdPath simd_path();
 const char* to_string(SimdPath path);

@@ -1,0 +1,39 @@
+// The ray query kernels for CPUs with AVX-512: the AVX2 kernels' text, with
+// the packet kernels' rays sixteen to a register (bvh/packet_lanes.inl), as
+// Embree's AVX-512 kernels take its 16-ray packets; the eight child boxes of
+// a node still fill one YMM register. As in accel_avx2.cpp, only the
+// functions after the target pragma are compiled for AVX-512, all in
+// rt::avx512, and simd_path() calls them only on CPUs that have it.
+#include <immintrin.h>
+
+#include <new>
+#include <type_traits>
+
+#include "bvh/packet_rays.h"
+#include "bvh/traverse.h"
+#include "bvh/wide_box_test.h"
+#include "geometry/accel_data.h"
+#include "geometry/sphere.h"
+#include "geometry/surface_material.h"
+#include "geometry/triangle_block_test.h"
+#include "util/cpu_features.h"
+
+#pragma GCC push_options
+#pragma GCC target("avx512f,avx512vl,avx512bw,avx512dq,avx2,bmi,bmi2,popcnt")
+
+namespace rt::avx512 {
+
+#include "bvh/wide_box_test_avx2.inl"
+#include "geometry/triangle_block_test_avx2.inl"
+#include "bvh/wide_traverse.inl"
+// Which path these kernels are (bvh/packet_lanes.inl sizes its registers by it).
+inline constexpr SimdPath kSimdPath = SimdPath::avx512;
+#include "bvh/packet_lanes.inl"
+#include "bvh/packet_setup.inl"
+#include "bvh/packet_frustum.inl"
+#include "bvh/packet_traverse.inl"
+#include "geometry/accel_kernels.inl"
+
+}  // namespace rt::avx512
+
+#pragma GCC pop_options
