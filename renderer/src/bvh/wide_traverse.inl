@@ -33,6 +33,11 @@ template <typename PrefetchLeaf>
     }
     const char* p = reinterpret_cast<const char*>(&bvh.nodes[ref.node()]);
     for (size_t line = 0; line < sizeof(bvh::WideNode); line += 64) __builtin_prefetch(p + line);
+    // A moving tree's boxes at the shutter's close, which its box test reads too.
+    if (!bvh.close.empty()) {
+        const char* close = reinterpret_cast<const char*>(&bvh.close[ref.node()]);
+        for (size_t line = 0; line < sizeof(bvh::WideBoxes); line += 64) __builtin_prefetch(close + line);
+    }
 }
 
 // Pushes the children in `hits` (two or more) farthest first, and returns the nearest.
