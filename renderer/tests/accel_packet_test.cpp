@@ -209,6 +209,45 @@ TEST(AccelPacket, ShadowPacketsTowardsOneLightAnswerAsSingleRays) {
     }
 }
 
+TEST(AccelPacket, LightSamplesFromOnePointAnswerAsSingleRays) {
+    // A spherical light's 16 samples from one hit, as the integrator traces
+    // them: one origin, nearby directions, so the interval test bounds them.
+    const Scene scene = sample_scene("bunny.glb");
+    const Bounds3 box = scene.bounds();
+    const vec3 light(box.center().x + 0.3f * box.extent().x, box.max.y + 2.0f * box.extent().y, box.center().z);
+    const float radius = 0.03f * box.extent().x;  // small enough to be one thin pyramid
+    for (SimdPath path : paths()) {
+        const Accelerator accel(scene, 1, path);
+        size_t as_packets = 0, packets = 0, blocked = 0, partly = 0, rays = 0;
+        uint32_t key = 0;
+        for (const std::vector<Ray>& camera : camera_packets(scene, 64)) {
+            Hit hit;
+            if (!accel.intersect(camera[5], hit)) continue;
+            const SurfaceHit s = surface_at(scene, camera[5], hit);
+            std::vector<Ray> packet;
+            for (uint32_t i = 0; i < 16; ++i, ++key) {
+                const vec3 u = glm::normalize(vec3(std::sin(1.7f * key), std::cos(2.3f * key), std::sin(0.9f * key + 1.0f)));
+                packet.push_back(spawn_ray_to(s.p, s.p_error, s.ng, light + radius * u, s.time));
+            }
+            std::vector<float> visibility(packet.size());
+            as_packets += accel.visibility(packet, visibility);
+            ++packets;
+            size_t here = 0;
+            for (size_t i = 0; i < packet.size(); ++i) {
+                EXPECT_EQ(visibility[i], accel.visibility(packet[i])) << to_string(path) << " ray " << rays;
+                here += visibility[i] == 0.0f;
+                ++rays;
+            }
+            blocked += here;
+            partly += here > 0 && here < packet.size();
+        }
+        EXPECT_GT(blocked, rays / 20) << "the bunny shadows part of itself and the ground";
+        EXPECT_LT(blocked, rays) << "and the light sees the rest";
+        EXPECT_GT(partly, 0u) << "some points are in penumbra";
+        EXPECT_GT(as_packets, packets * 9 / 10) << to_string(path) << ": rays from one point are one packet";
+    }
+}
+
 TEST(AccelPacket, ShadowPacketsThroughEdgesAndVerticesDoNotLeak) {
     // From just inside a closed mesh towards a far light, each packet's rays
     // cross one triangle's corners and edges, which it shares: every ray is

@@ -131,6 +131,30 @@ TEST(Render, CameraPacketsGiveTheImageOfSingleRays) {
     }
 }
 
+// A spherical light's and a soft sun's samples at a hit go as packets from
+// one point; the auxiliary outputs' render, which traces ray by ray, agrees.
+TEST(Render, LightSamplePacketsGiveTheImageOfSingleRays) {
+    Scene scene = sample_scene("dragon_4.glb");
+    const Bounds3 box = scene.bounds();
+    Light sphere;
+    sphere.position = vec3(box.center().x, box.max.y + box.extent().y, box.max.z);
+    sphere.radius = 0.03f * box.extent().x;
+    sphere.intensity = vec3(20.0f);
+    scene.lights = {sphere};
+    const Accelerator accel(scene, 2);
+    ASSERT_TRUE(accel.packets_serve());
+    RenderSettings settings = make_settings(48, 36);
+    settings.set_samples_per_pixel(2);
+    settings.set_light_samples(24);  // a packet and a half
+    const Renderer renderer(accel, settings, default_camera(scene));
+    RenderStats single_stats, stats;
+    AuxImage aux(48, 36, {DEPTH});
+    const Image single = renderer.render(2, 16, nullptr, single_stats, &aux);
+    EXPECT_EQ(renderer.render(2, 16, nullptr, stats).rgb, single.rgb);
+    EXPECT_EQ(stats.rays.shadow, single_stats.rays.shadow);
+    EXPECT_GT(stats.rays.shadow, 48u * 36u * 2u * 12u) << "most pixels see the dragon or the ground lit";
+}
+
 // The debugger traces every sample of the pixel and agrees with the render.
 TEST(Render, DebugPixelTracesEverySample) {
     Scene scene = floor_and_sphere(1.0f);

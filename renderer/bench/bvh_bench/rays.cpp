@@ -1,5 +1,6 @@
 #include "rays.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "geometry/spawn.h"
@@ -16,6 +17,7 @@ namespace {
 // never changes another's rays.
 constexpr uint32_t kRandomSeed = 0x52414e44u;   // "RAND"
 constexpr uint32_t kDiffuseSeed = 0x44494646u;  // "DIFF"
+constexpr uint32_t kSoftSeed = 0x534f4654u;     // "SOFT"
 
 float sample(uint32_t seed, uint32_t index, uint32_t dimension) {
     return unit_float(hash_combine(hash_combine(seed, index), dimension));
@@ -82,6 +84,21 @@ void add_secondary_rays(const Scene& scene, const Accelerator& accel, unsigned t
         for (uint32_t lane = 0; lane < kPacketWidth; ++lane)
             packet[lane] = primary[lane] == kInactiveLane ? kInactiveLane : shadow_of[primary[lane]];
         rays.shadow_packets.push_back(packet);
+    }
+    const float radius = !scene.lights.empty() && scene.lights.front().radius > 0.0f
+                             ? scene.lights.front().radius
+                             : 0.02f * std::max({bounds.extent().x, bounds.extent().y, bounds.extent().z});
+    for (size_t i = 0; i < hits.size(); i += kPacketWidth) {
+        if (!hits[i].found()) continue;
+        const SurfaceHit s = surface_at(scene, rays.primary[i], hits[i]);
+        Packet packet;
+        for (uint32_t lane = 0; lane < kPacketWidth; ++lane) {
+            const uint32_t key = uint32_t(i) * kPacketWidth + lane;
+            const vec3 point = light + radius * uniform_sphere(sample(kSoftSeed, key, 0), sample(kSoftSeed, key, 1));
+            packet[lane] = uint32_t(rays.soft_shadow.size());
+            rays.soft_shadow.push_back(spawn_ray_to(s.p, s.p_error, s.ng, point, s.time));
+        }
+        rays.soft_shadow_packets.push_back(packet);
     }
 }
 

@@ -33,6 +33,11 @@ struct RaySet {
     // scene); the packets are the primary blocks, lanes without a hit inactive.
     std::vector<Ray> shadow;
     std::vector<Packet> shadow_packets;
+    // From every 16th primary hit, 16 rays towards points on a sphere about
+    // the first light (its radius, or 2 % of the scene's largest extent), one
+    // packet per hit: a spherical light's samples as the integrator traces them.
+    std::vector<Ray> soft_shadow;
+    std::vector<Packet> soft_shadow_packets;
     // Origins uniform in the scene's box grown by 10 % of its extent on every
     // side, directions uniform on the sphere, no t_max: rays no camera makes,
     // the worst case for any tree.

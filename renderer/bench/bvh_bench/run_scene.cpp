@@ -200,6 +200,9 @@ void trace_all_kinds(const RaySet& rays, const Peers& p, const Options& o, Scene
     if (o.wants("shadow")) result.queries.push_back(occluded("shadow", rays.shadow, p));
     if (o.wants("packets"))
         result.queries.push_back(occluded_packets("shadow (Embree-16)", rays.shadow, rays.shadow_packets, p));
+    if (o.wants("packets"))
+        result.queries.push_back(
+            occluded_packets("soft shadow (Embree-16)", rays.soft_shadow, rays.soft_shadow_packets, p));
     if (o.wants("random")) result.queries.push_back(closest("random", rays.random, p));
     if (o.wants("diffuse")) {
         result.queries.push_back(closest("diffuse", rays.diffuse, p));

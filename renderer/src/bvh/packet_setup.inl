@@ -80,6 +80,7 @@ static_assert(sizeof(Ray) == 8 * sizeof(float) && offsetof(Ray, direction) == 3 
         }
     }
     if (lanes_bits(usable) != kRayLaneBits) return PacketLoad::refused;
+    p.shared_origin = lanes_bits(same_origin) == kRayLaneBits;
     if (lanes_bits(same_origin) != kRayLaneBits && lanes_bits(same_direction) != kRayLaneBits) return PacketLoad::rays;
     for (int axis = 0; axis < 3; ++axis) {
         const float low = lanes_low(inv_low[axis]), high = lanes_high(inv_high[axis]);

@@ -166,14 +166,16 @@ bool intersect_packet_with(const AccelScene& accel, const Ray* rays, uint32_t co
     return true;
 }
 
-// Packets the intervals bound (a camera's, an orthographic one's) take the
-// interval test; shadow rays towards one light take the frustum's.
+// Packets the intervals bound (a camera's, an orthographic one's, a point's
+// samples of a light in one octant) take the interval test; shadow rays
+// towards one light, or from one point to the samples of a light, take the
+// frustum's.
 bool visibility_packet_with(const AccelScene& accel, const Ray* rays, uint32_t count, float* visibility) {
     bvh::PacketRays p;
     PacketFrustum frustum;
     const PacketLoad load = count < 2 || !accel.packets_serve() ? PacketLoad::refused : load_packet(p, rays, count);
     if (load == PacketLoad::refused ||
-        (load == PacketLoad::rays && !make_frustum(frustum, p, tree_scale(accel.world.bvh)))) {
+        (load == PacketLoad::rays && !make_frustum(frustum, p, tree_scale(accel.world.bvh), p.shared_origin))) {
         for (uint32_t i = 0; i < count; ++i) visibility[i] = visibility_with(accel, rays[i], SilentObserver{});
         return false;
     }

@@ -4,7 +4,9 @@
 // hot path pays nothing for what the other two record.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <span>
 
 #include "geometry/accel.h"
 #include "geometry/surface.h"
@@ -41,10 +43,29 @@ struct CountingRecorder {
         visibility = accel.visibility(ray);
         return -1;
     }
+    // Shadow rays from one point towards one light: packets of up to
+    // Accelerator::kPacketSize, which share their origin (shadows_of).
+    void shadows(const Accelerator& accel, std::span<const Ray> rays, uint32_t, int, uint32_t, float* visibility,
+                 int* ids) {
+        counts.shadow += rays.size();
+        for (size_t first = 0; first < rays.size(); first += Accelerator::kPacketSize) {
+            const size_t n = std::min<size_t>(Accelerator::kPacketSize, rays.size() - first);
+            accel.visibility(rays.subspan(first, n), std::span(visibility + first, n));
+        }
+        std::fill_n(ids, rays.size(), -1);
+    }
     void surface(int, const SurfaceHit&, const Hit&, const Material&, vec3) {}
     void light(int, const Ray&, float, const Light&, vec3) {}
     void contribution(int, vec3) {}
 };
+
+// The shadow rays one at a time, for the recorders that record each.
+template <class Recorder>
+void shadows_one_by_one(Recorder& recorder, const Accelerator& accel, std::span<const Ray> rays, uint32_t depth,
+                        int parent, uint32_t light, float* visibility, int* ids) {
+    for (size_t i = 0; i < rays.size(); ++i)
+        ids[i] = recorder.shadow(accel, rays[i], depth, parent, light, visibility[i]);
+}
 
 // The hot path's counts plus the auxiliary outputs: every ray's traversal
 // cost, and the primary hit's surface. Like the debugger's, its segment 0 is
@@ -65,6 +86,10 @@ struct AuxRecorder {
         ++counts.shadow;
         visibility = accel.visibility(ray, aux.cost);
         return -1;
+    }
+    void shadows(const Accelerator& accel, std::span<const Ray> rays, uint32_t depth, int parent, uint32_t light,
+                 float* visibility, int* ids) {
+        shadows_one_by_one(*this, accel, rays, depth, parent, light, visibility, ids);
     }
     void surface(int segment, const SurfaceHit& s, const Hit&, const Material&, vec3 diffuse) {
         if (segment != 0) return;
@@ -136,6 +161,10 @@ struct DebugRecorder {
         segment.set_t(t);
         set_vec3(segment.mutable_end(), ray.at(t));
         return path.segments_size() - 1;
+    }
+    void shadows(const Accelerator& accel, std::span<const Ray> rays, uint32_t depth, int parent, uint32_t light,
+                 float* visibility, int* ids) {
+        shadows_one_by_one(*this, accel, rays, depth, parent, light, visibility, ids);
     }
     void surface(int index, const SurfaceHit& s, const Hit& hit, const Material& m, vec3) {
         RaySegment& segment = *path.mutable_segments(index);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -27,6 +28,29 @@ namespace {
 vec3 mirror_direction(vec3 direction, const SurfaceHit& s) {
     const vec3 mirrored = glm::reflect(direction, s.ns);
     return glm::dot(mirrored, s.ng) > 0.0f ? mirrored : glm::reflect(direction, s.ng);
+}
+
+// A light's `count` shadow rays from one point, a packet at a time: the rays
+// of one point towards one light leave from one origin in nearby directions,
+// a cone the packet kernels bound with one interval test per node.
+// sample(i, ray, data) makes sample i's ray and what its shading needs
+// (false: it has none); shade(data, visibility, id) adds what a ray that is
+// not wholly blocked brings, in sample order, as a ray-by-ray loop would.
+template <class Data, class Recorder, class Sample, class Shade>
+void trace_light_samples(Recorder& recorder, const Accelerator& accel, uint32_t count, uint32_t depth, int parent,
+                         uint32_t light, Sample&& sample, Shade&& shade) {
+    constexpr uint32_t kPacket = Accelerator::kPacketSize;
+    for (uint32_t first = 0; first < count; first += kPacket) {
+        Ray rays[kPacket];
+        Data data[kPacket];
+        uint32_t n = 0;
+        for (uint32_t i = first; i < std::min(count, first + kPacket); ++i) n += sample(i, rays[n], data[n]);
+        float visibility[kPacket];
+        int ids[kPacket];
+        recorder.shadows(accel, std::span<const Ray>(rays, n), depth, parent, light, visibility, ids);
+        for (uint32_t k = 0; k < n; ++k)
+            if (visibility[k] != 0.0f) shade(data[k], visibility[k], ids[k]);
+    }
 }
 
 }  // namespace
@@ -294,21 +318,28 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Surface
         // A spherical light: light_samples points on it, each pixel sample
         // taking its own share of the light's sample dimension.
         const SphereLightSampler light_sampler(light, light_sampling_, s.p);
+        struct Lit {
+            vec3 wi, weight;
+            float cos_theta;
+        };
         vec3 sum(0.0f);
-        for (uint32_t i = 0; i < light_samples_; ++i) {
-            SphereLightSample sample;
-            if (!light_sampler.sample(sampler.get_2d(uint32_t(light_index), i, light_samples_), sample)) continue;
-            const float cos_theta = glm::dot(s.ns, sample.wi);
-            if (cos_theta <= 0.0f || glm::dot(s.n_smooth, sample.wi) <= 0.0f) continue;
-            float visibility = 0.0f;
-            const int shadow = recorder.shadow(accel_, spawn_ray_to(s.p, s.p_error, s.ng, sample.point, s.time), depth,
-                                               parent, uint32_t(light_index), visibility);
-            if (visibility == 0.0f) continue;
-            const vec3 c = phong_brdf(m.diffuse, m.specular, m.shininess, s.ns, wo, sample.wi) * sample.weight *
-                           (cos_theta / float(light_samples_)) * (visibility * opacity);
-            recorder.contribution(shadow, c);
-            sum += c;
-        }
+        trace_light_samples<Lit>(
+            recorder, accel_, light_samples_, depth, parent, uint32_t(light_index),
+            [&](uint32_t i, Ray& ray, Lit& lit) {
+                SphereLightSample sample;
+                if (!light_sampler.sample(sampler.get_2d(uint32_t(light_index), i, light_samples_), sample)) return false;
+                const float cos_theta = glm::dot(s.ns, sample.wi);
+                if (cos_theta <= 0.0f || glm::dot(s.n_smooth, sample.wi) <= 0.0f) return false;
+                ray = spawn_ray_to(s.p, s.p_error, s.ng, sample.point, s.time);
+                lit = {sample.wi, sample.weight, cos_theta};
+                return true;
+            },
+            [&](const Lit& lit, float visibility, int shadow) {
+                const vec3 c = phong_brdf(m.diffuse, m.specular, m.shininess, s.ns, wo, lit.wi) * lit.weight *
+                               (lit.cos_theta / float(light_samples_)) * (visibility * opacity);
+                recorder.contribution(shadow, c);
+                sum += c;
+            });
         color += sum;
     }
     return color;
@@ -325,20 +356,27 @@ vec3 WhittedIntegrator::sun_light(const SurfaceHit& s, vec3 wo, const SurfaceMat
     const bool soft = light.angular_diameter > 0.0f;
     const uint32_t count = soft ? light_samples_ : 1;
     const SunSampler sun(light);
+    struct Lit {
+        vec3 wi;
+        float cos_theta;
+    };
     vec3 sum(0.0f);
-    for (uint32_t i = 0; i < count; ++i) {
-        const vec3 wi = soft ? sun.sample(sampler.get_2d(light_index, i, count)) : -light.direction;
-        const float cos_theta = glm::dot(s.ns, wi);
-        if (cos_theta <= 0.0f || glm::dot(s.n_smooth, wi) <= 0.0f) continue;
-        float visibility = 0.0f;
-        const int shadow =
-            recorder.shadow(accel_, spawn_ray(s.p, s.p_error, s.ng, wi, s.time), depth, parent, light_index, visibility);
-        if (visibility == 0.0f) continue;
-        const vec3 c = phong_brdf(m.diffuse, m.specular, m.shininess, s.ns, wo, wi) * light.intensity *
-                       (cos_theta / float(count)) * (visibility * opacity);
-        recorder.contribution(shadow, c);
-        sum += c;
-    }
+    trace_light_samples<Lit>(
+        recorder, accel_, count, depth, parent, light_index,
+        [&](uint32_t i, Ray& ray, Lit& lit) {
+            const vec3 wi = soft ? sun.sample(sampler.get_2d(light_index, i, count)) : -light.direction;
+            const float cos_theta = glm::dot(s.ns, wi);
+            if (cos_theta <= 0.0f || glm::dot(s.n_smooth, wi) <= 0.0f) return false;
+            ray = spawn_ray(s.p, s.p_error, s.ng, wi, s.time);
+            lit = {wi, cos_theta};
+            return true;
+        },
+        [&](const Lit& lit, float visibility, int shadow) {
+            const vec3 c = phong_brdf(m.diffuse, m.specular, m.shininess, s.ns, wo, lit.wi) * light.intensity *
+                           (lit.cos_theta / float(count)) * (visibility * opacity);
+            recorder.contribution(shadow, c);
+            sum += c;
+        });
     return sum;
 }
 
