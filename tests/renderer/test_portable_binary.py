@@ -82,7 +82,7 @@ def test_a_cpu_without_avx_runs_the_generic_kernels(rtrender, scenes_dir, tmp_pa
     assert pixels(tmp_path / "haswell.exr") == here
 
 
-@pytest.mark.parametrize("value, message", [("sse9", "unknown SIMD path"), ("avx2", None)])
+@pytest.mark.parametrize("value, message", [("sse9", "unknown SIMD path"), ("avx2", None), ("avx512", None)])
 def test_a_forced_path_is_checked(rtrender, scenes_dir, tmp_path, value, message):
     qemu = shutil.which("qemu-x86_64")
     assert qemu, "qemu-user is missing: `make deps` installs it"
