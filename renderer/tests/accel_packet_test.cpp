@@ -226,7 +226,8 @@ TEST(AccelPacket, LightSamplesFromOnePointAnswerAsSingleRays) {
             const SurfaceHit s = surface_at(scene, camera[5], hit);
             std::vector<Ray> packet;
             for (uint32_t i = 0; i < 16; ++i, ++key) {
-                const vec3 u = glm::normalize(vec3(std::sin(1.7f * key), std::cos(2.3f * key), std::sin(0.9f * key + 1.0f)));
+                const float k = float(key);
+                const vec3 u = glm::normalize(vec3(std::sin(1.7f * k), std::cos(2.3f * k), std::sin(0.9f * k + 1.0f)));
                 packet.push_back(spawn_ray_to(s.p, s.p_error, s.ng, light + radius * u, s.time));
             }
             std::vector<float> visibility(packet.size());

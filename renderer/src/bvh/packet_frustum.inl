@@ -151,7 +151,8 @@ inline bool make_frustum(PacketFrustum& f, const bvh::PacketRays& p, float scale
         // A three-term product rounds by a few ulps of |normal|_1 times the
         // largest coordinate: a margin well above it.
         const float norm_1 = std::abs(normals[j].x) + std::abs(normals[j].y) + std::abs(normals[j].z);
-        f.limit[j] = (glm::dot(normals[j], apex) + thresholds[j]) - 1e-5f * (norm_1 * magnitude + std::abs(thresholds[j]));
+        const float margin = 1e-5f * (norm_1 * magnitude + std::abs(thresholds[j]));
+        f.limit[j] = (glm::dot(normals[j], apex) + thresholds[j]) - margin;
     }
     return true;
 }

@@ -67,8 +67,9 @@ AccelData build_tree(const Scene& scene, size_t first, size_t count, unsigned th
     // traversal interpolates: as Embree's linear-bounds SAH prices a box by its
     // area over time, not by the box that holds the whole sweep. Over the
     // sweeps, dragon_2 moving by 5% of its length built a tree of fewer,
-    // fuller nodes (6450 against 7250) that rendered 2% slower. Triangles that stand still in a moving scene (a shared mesh, which its
-    // instances move) get a still tree.
+    // fuller nodes (6450 against 7250) that rendered 2% slower. Triangles
+    // that stand still in a moving scene (a shared mesh, which its instances
+    // move) get a still tree.
     const bool moving = triangles_move(scene, first, count);
     std::vector<Bounds3> triangle_bounds(count), open_bounds, close_bounds;
     std::vector<vec3> centroids(count);

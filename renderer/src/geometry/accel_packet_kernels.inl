@@ -109,13 +109,15 @@ struct PacketNearest {
             if (closest_in_leaf<false, false>(data, WatertightRay4(shear.ray(r)), first_block, block_count, 0.0f,
                                               p.t_max[r], ray_nearest, none)) {
                 p.t_cull[r] = bvh::tie_reach(p.t_max[r]);
-                nearest.primitive[r] = ray_nearest.primitive, nearest.u[r] = ray_nearest.u, nearest.v[r] = ray_nearest.v;
+                nearest.primitive[r] = ray_nearest.primitive;
+                nearest.u[r] = ray_nearest.u, nearest.v[r] = ray_nearest.v;
             }
         }
 
     });
     for (uint32_t r = 0; r < p.count; ++r)
-        if (nearest.primitive[r] != kNoPrimitive) hits[r] = {p.t_max[r], nearest.primitive[r], nearest.u[r], nearest.v[r]};
+        if (nearest.primitive[r] != kNoPrimitive)
+            hits[r] = {p.t_max[r], nearest.primitive[r], nearest.u[r], nearest.v[r]};
 }
 
 // Returns the rays (a mask of those in `active`) an opaque triangle stops.

@@ -117,8 +117,9 @@ struct RaysHits {
             const RayLanes max_zt = lanes_abs_max(az, bz, cz);
             const RayLanes max_xt = lanes_abs_max(ax, bx, cx);
             const RayLanes max_yt = lanes_abs_max(ay, by, cy);
-            const RayLanes gamma2 = lanes_splat<RayLanes>(gamma_bound(2)), gamma3 = lanes_splat<RayLanes>(gamma_bound(3)),
-                              gamma5 = lanes_splat<RayLanes>(gamma_bound(5));
+            const RayLanes gamma2 = lanes_splat<RayLanes>(gamma_bound(2)),
+                           gamma3 = lanes_splat<RayLanes>(gamma_bound(3)),
+                           gamma5 = lanes_splat<RayLanes>(gamma_bound(5));
             const RayLanes delta_z = gamma3 * max_zt;
             const RayLanes delta_x = gamma5 * (max_xt + max_zt);
             const RayLanes delta_y = gamma5 * (max_yt + max_zt);
@@ -126,7 +127,7 @@ struct RaysHits {
                 lanes_splat<RayLanes>(2.0f) * ((gamma2 * max_xt * max_yt + delta_y * max_xt) + delta_x * max_yt);
             const RayLanes max_e = lanes_abs_max(e0, e1, e2);
             const RayLanes delta_t =
-                lanes_splat<RayLanes>(3.0f) * ((gamma3 * max_e * max_zt + delta_e * max_zt) + delta_z * max_e) * lanes_abs(inv_det);
+                3.0f * ((gamma3 * max_e * max_zt + delta_e * max_zt) + delta_z * max_e) * lanes_abs(inv_det);
             hit_lanes &= ~lanes_bits(t <= delta_t);
             hits.t = t;
             hits.u = e1 * inv_det;

@@ -327,7 +327,8 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Surface
             recorder, accel_, light_samples_, depth, parent, uint32_t(light_index),
             [&](uint32_t i, Ray& ray, Lit& lit) {
                 SphereLightSample sample;
-                if (!light_sampler.sample(sampler.get_2d(uint32_t(light_index), i, light_samples_), sample)) return false;
+                const vec2 u = sampler.get_2d(uint32_t(light_index), i, light_samples_);
+                if (!light_sampler.sample(u, sample)) return false;
                 const float cos_theta = glm::dot(s.ns, sample.wi);
                 if (cos_theta <= 0.0f || glm::dot(s.n_smooth, sample.wi) <= 0.0f) return false;
                 ray = spawn_ray_to(s.p, s.p_error, s.ng, sample.point, s.time);
