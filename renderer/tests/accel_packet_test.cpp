@@ -15,6 +15,7 @@
 #include "geometry/surface.h"
 #include "integrator/camera.h"
 #include "integrator/default_camera.h"
+#include "integrator/sampling.h"
 #include "test_meshes.h"
 
 namespace rt {
@@ -181,6 +182,60 @@ ShadowPackets shadow_packets(const Accelerator& accel, uint32_t size, vec3 light
         }
     }
     return shadows;
+}
+
+TEST(AccelPacket, MovingCameraPacketsAnswerAsSingleRaysEachAtItsTime) {
+    // The bunny moving by a tenth of its width; each ray of a packet at its
+    // own time, as a time-sampled render's pixels take theirs.
+    Scene scene = sample_scene("bunny.glb");
+    const float shift = 0.1f * scene.bounds().extent().x;
+    for (const vec3& p : scene.positions) scene.positions_close.push_back(p + vec3(shift, 0.0f, 0.0f));
+    scene.normals_close = scene.normals;
+    ASSERT_TRUE(scene.moving());
+    for (SimdPath path : paths()) {
+        const Accelerator accel(scene, 1, path);
+        ASSERT_TRUE(accel.packets_serve());
+        size_t as_packets = 0, hit_rays = 0, packets = 0;
+        uint32_t key = 0;
+        for (std::vector<Ray> packet : camera_packets(scene, 96)) {
+            for (Ray& ray : packet) ray.time = unit_float(hash_combine(key++, 7u));
+            std::vector<Hit> hits(packet.size());
+            as_packets += accel.intersect(packet, hits);
+            ++packets;
+            for (size_t i = 0; i < packet.size(); ++i) {
+                Hit single;
+                hit_rays += accel.intersect(packet[i], single);
+                EXPECT_EQ(hits[i].primitive, single.primitive) << to_string(path) << " ray " << i;
+                EXPECT_EQ(hits[i].t, single.t) << to_string(path) << " ray " << i;
+                EXPECT_EQ(hits[i].u, single.u) << to_string(path) << " ray " << i;
+                EXPECT_EQ(hits[i].v, single.v) << to_string(path) << " ray " << i;
+            }
+            std::vector<float> visibility(packet.size());
+            accel.visibility(packet, visibility);
+            for (size_t i = 0; i < packet.size(); ++i)
+                EXPECT_EQ(visibility[i], accel.visibility(packet[i])) << to_string(path) << " ray " << i;
+        }
+        EXPECT_GT(hit_rays, 96u * 96u / 8) << "the bunny fills part of the view";
+        EXPECT_GT(as_packets, packets * 9 / 10) << to_string(path);
+        // Shadow rays towards one light, each at its own time: the pyramid
+        // against boxes swept over the packet's times.
+        const Bounds3 box = scene.bounds();
+        const vec3 light(box.center().x + 0.3f * box.extent().x, box.max.y + 2.0f * box.extent().y, box.center().z);
+        size_t shadow_packets_served = 0, shadow_packets_count = 0, blocked = 0;
+        for (std::vector<Ray> packet : shadow_packets(accel, 128, light).packets) {
+            if (packet.size() < 2) continue;
+            for (Ray& ray : packet) ray.time = unit_float(hash_combine(key++, 7u));
+            std::vector<float> visibility(packet.size());
+            shadow_packets_served += accel.visibility(packet, visibility);
+            ++shadow_packets_count;
+            for (size_t i = 0; i < packet.size(); ++i) {
+                EXPECT_EQ(visibility[i], accel.visibility(packet[i])) << to_string(path) << " shadow ray " << i;
+                blocked += visibility[i] == 0.0f;
+            }
+        }
+        EXPECT_GT(blocked, 0u);
+        EXPECT_GT(shadow_packets_served, shadow_packets_count / 2) << to_string(path);
+    }
 }
 
 TEST(AccelPacket, ShadowPacketsTowardsOneLightAnswerAsSingleRays) {

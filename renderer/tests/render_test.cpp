@@ -131,6 +131,26 @@ TEST(Render, CameraPacketsGiveTheImageOfSingleRays) {
     }
 }
 
+// A moving scene's camera rays go as packets too, each at its sample's time.
+TEST(Render, MovingCameraPacketsGiveTheImageOfSingleRays) {
+    Scene scene = sample_scene("dragon_4.glb");
+    const float shift = 0.05f * scene.bounds().extent().x;
+    for (const vec3& p : scene.positions) scene.positions_close.push_back(p + vec3(shift, 0.0f, 0.0f));
+    scene.normals_close = scene.normals;
+    const Accelerator accel(scene, 2);
+    ASSERT_TRUE(accel.packets_serve());
+    for (uint32_t samples : {1u, 6u}) {
+        RenderSettings settings = make_settings(61, 45);
+        settings.set_samples_per_pixel(samples);
+        const Renderer renderer(accel, settings, default_camera(scene));
+        RenderStats single_stats, stats;
+        AuxImage aux(61, 45, {DEPTH});
+        const Image single = renderer.render(2, 16, nullptr, single_stats, &aux);
+        EXPECT_EQ(renderer.render(2, 16, nullptr, stats).rgb, single.rgb) << samples << " spp";
+        EXPECT_EQ(stats.rays.total(), single_stats.rays.total());
+    }
+}
+
 // A spherical light's and a soft sun's samples at a hit go as packets from
 // one point; the auxiliary outputs' render, which traces ray by ray, agrees.
 TEST(Render, LightSamplePacketsGiveTheImageOfSingleRays) {

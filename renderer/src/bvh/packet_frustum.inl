@@ -24,17 +24,17 @@ struct PacketFrustum {
     uint32_t row[kPlanes][3];
 };
 
-// The largest magnitude of a coordinate in the tree (its root's boxes), 0
-// for an empty tree: what bounds the rounding of a plane's product with a corner.
+// The largest magnitude of a coordinate in the tree (its root's boxes, at
+// open and at close in a moving tree), 0 for an empty tree: what bounds the
+// rounding of a plane's product with a corner.
 inline float tree_scale(const bvh::WideBvh& bvh) {
     if (bvh.empty()) return 0.0f;
-    const bvh::WideNode& root = bvh.nodes[0];
-    const NodeMask used = lanes_load<NodeLanes>(root.lower[0]) <= lanes_load<NodeLanes>(root.upper[0]);
     NodeLanes scale = {};
-    for (int axis = 0; axis < 3; ++axis) {
-        const NodeLanes extent = lanes_max(lanes_abs(lanes_load<NodeLanes>(root.lower[axis])),
-                                           lanes_abs(lanes_load<NodeLanes>(root.upper[axis])));
-        scale = lanes_max(scale, used ? extent : NodeLanes{});
+    for (const float* rows : {bvh.nodes[0].lower[0], bvh.close.empty() ? nullptr : bvh.close[0].lower[0]}) {
+        if (!rows) continue;
+        const NodeMask used = lanes_load<NodeLanes>(rows) <= lanes_load<NodeLanes>(rows + 3 * bvh::kWideWidth);
+        for (uint32_t row = 0; row < 6; ++row)
+            scale = lanes_max(scale, used ? lanes_abs(lanes_load<NodeLanes>(rows + row * bvh::kWideWidth)) : NodeLanes{});
     }
     return lanes_high(scale);
 }
@@ -157,12 +157,12 @@ inline bool make_frustum(PacketFrustum& f, const bvh::PacketRays& p, float scale
     return true;
 }
 
-// Bit i: child i's box may hold part of some segment of the packet.
-[[gnu::always_inline]] inline uint32_t frustum_box_test(const bvh::WideNode& node, const PacketFrustum& f) {
-    const float* rows = node.lower[0];
+// Bit i: child i's box may hold part of some segment of the packet. `rows`:
+// a node's plane rows (packet_box_test's), or a moving node's swept_rows.
+[[gnu::always_inline]] inline uint32_t frustum_box_test(const float* rows, const PacketFrustum& f) {
     // An empty slot's inverted box would give 0 * inf on a plane parallel
     // to an axis, or infinities of both signs.
-    NodeMask inside = lanes_load<NodeLanes>(node.lower[0]) <= lanes_load<NodeLanes>(node.upper[0]);
+    NodeMask inside = lanes_load<NodeLanes>(rows) <= lanes_load<NodeLanes>(rows + 3 * bvh::kWideWidth);
     for (int j = 0; j < PacketFrustum::kPlanes; ++j) {
         const NodeLanes dot = (lanes_load<NodeLanes>(rows + f.row[j][0]) * f.normal[j][0] +
                                lanes_load<NodeLanes>(rows + f.row[j][1]) * f.normal[j][1]) +

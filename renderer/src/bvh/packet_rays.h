@@ -38,6 +38,10 @@ struct PacketRays {
     // Where each ray still enters boxes and tests triangles: t_max, and past
     // it by bvh::tie_reach once a closest-hit query has found a triangle.
     alignas(64) float t_cull[kPacketSize];
+    // Each ray's moment in the shutter interval (a moving tree's boxes and
+    // triangles are taken at it), and the earliest and latest of them.
+    alignas(64) float time[kPacketSize];
+    float time_low, time_high;
     // Shared by every ray: the row of a node each axis' entry plane sits in.
     uint32_t near_row[3];
     uint32_t far_row[3];

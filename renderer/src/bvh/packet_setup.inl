@@ -18,7 +18,7 @@ enum class PacketLoad {
 
 // A Ray is eight floats: one row of an 8 x 8 transpose.
 static_assert(sizeof(Ray) == 8 * sizeof(float) && offsetof(Ray, direction) == 3 * sizeof(float) &&
-              offsetof(Ray, t_max) == 6 * sizeof(float));
+              offsetof(Ray, t_max) == 6 * sizeof(float) && offsetof(Ray, time) == 7 * sizeof(float));
 
 // Rays `first` to first + 7 (those past n: ray 0) into the packet's columns,
 // by the 8 x 8 transpose of unpacks, shuffles and 128-bit swaps; element by
@@ -48,6 +48,7 @@ static_assert(sizeof(Ray) == 8 * sizeof(float) && offsetof(Ray, direction) == 3 
     }
     lanes_store(p.t_max + first, column[6]);
     lanes_store(p.t_cull + first, column[6]);
+    lanes_store(p.time + first, column[7]);
 }
 
 [[gnu::always_inline]] inline PacketLoad load_packet(bvh::PacketRays& p, const Ray* rays, uint32_t n) {
@@ -81,6 +82,12 @@ static_assert(sizeof(Ray) == 8 * sizeof(float) && offsetof(Ray, direction) == 3 
     }
     if (lanes_bits(usable) != kRayLaneBits) return PacketLoad::refused;
     p.shared_origin = lanes_bits(same_origin) == kRayLaneBits;
+    RayLanes time_low = lanes_load<RayLanes>(p.time), time_high = time_low;
+    for (uint32_t first = kRayLanes; first < bvh::kPacketSize; first += kRayLanes) {
+        time_low = lanes_min(time_low, lanes_load<RayLanes>(p.time + first));
+        time_high = lanes_max(time_high, lanes_load<RayLanes>(p.time + first));
+    }
+    p.time_low = lanes_low(time_low), p.time_high = lanes_high(time_high);
     if (lanes_bits(same_origin) != kRayLaneBits && lanes_bits(same_direction) != kRayLaneBits) return PacketLoad::rays;
     for (int axis = 0; axis < 3; ++axis) {
         const float low = lanes_low(inv_low[axis]), high = lanes_high(inv_high[axis]);

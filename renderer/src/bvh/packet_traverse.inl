@@ -9,9 +9,9 @@
 
 // Bit i: some ray of the packet may enter child i's box before t_max;
 // t_entry[i] is then a lower bound of where any does (at least 0).
-[[gnu::always_inline]] inline uint32_t packet_box_test(const bvh::WideNode& node, const bvh::PacketRays& p,
-                                                       float t_max, float* t_entry) {
-    const float* rows = node.lower[0];
+// `rows`: a node's plane rows, its lower[3][8] then its upper[3][8].
+[[gnu::always_inline]] inline uint32_t packet_box_test(const float* rows, const bvh::PacketRays& p, float t_max,
+                                                       float* t_entry) {
     NodeLanes enter = lanes_splat<NodeLanes>(0.0f);
     NodeLanes exit = lanes_splat<NodeLanes>(t_max);
     for (int axis = 0; axis < 3; ++axis) {
@@ -31,13 +31,32 @@
     return lanes_bits((enter <= exit) & (enter < t_max));
 }
 
+// A moving node's plane rows over the packet's times: per row the lower of
+// its rows at time_low and time_high for the lower planes, the higher for
+// the upper ones. The boxes at any time between lie within, as
+// open + t (close - open) is monotone in t, rounding included; each ray's own
+// box is the single-ray test's (wide_box_test's plane_row).
+[[gnu::always_inline]] inline void swept_rows(const bvh::WideNode& node, const bvh::WideBoxes& close,
+                                              const bvh::PacketRays& p, float* rows) {
+    const float* open = node.lower[0];
+    const float* shut = close.lower[0];
+    for (uint32_t row = 0; row < 6; ++row) {
+        const NodeLanes at_open = lanes_load<NodeLanes>(open + row * bvh::kWideWidth);
+        const NodeLanes motion = lanes_load<NodeLanes>(shut + row * bvh::kWideWidth) - at_open;
+        const NodeLanes early = at_open + p.time_low * motion, late = at_open + p.time_high * motion;
+        lanes_store(rows + row * bvh::kWideWidth, row < 3 ? lanes_min(early, late) : lanes_max(early, late));
+    }
+}
+
 // Which of the rays in `rays` enter child `slot`'s box before their own
 // t_cull: wide_box_test's operations in its order, a register of rays a pass. Each
 // ray's entry plane is the one it meets first, whichever way it runs: with a
 // finite reciprocal (load_packet checks) the two distances are ordered as
 // the ray's own choice of planes orders them, bit for bit.
-[[gnu::always_inline]] inline uint32_t rays_entering(const bvh::WideNode& node, uint32_t slot,
-                                                     const bvh::PacketRays& p, uint32_t rays) {
+// `close`: a moving node's boxes at shutter close, each ray's box taken at its
+// own time as its single-ray test takes it; null for a still tree.
+[[gnu::always_inline]] inline uint32_t rays_entering(const bvh::WideNode& node, const bvh::WideBoxes* close,
+                                                     uint32_t slot, const bvh::PacketRays& p, uint32_t rays) {
     uint32_t entering = 0;
     for (uint32_t first = 0; first < p.count; first += kRayLanes) {
         if (((rays >> first) & kRayLaneBits) == 0) continue;
@@ -47,8 +66,15 @@
         for (int axis = 0; axis < 3; ++axis) {
             const RayLanes origin = lanes_load<RayLanes>(p.origin[axis] + first);
             const RayLanes inv = lanes_load<RayLanes>(p.inv_direction[axis] + first);
-            const RayLanes t_lower = (node.lower[axis][slot] - origin) * inv;
-            const RayLanes t_upper = (node.upper[axis][slot] - origin) * inv;
+            RayLanes lower = lanes_splat<RayLanes>(node.lower[axis][slot]);
+            RayLanes upper = lanes_splat<RayLanes>(node.upper[axis][slot]);
+            if (close) {
+                const RayLanes time = lanes_load<RayLanes>(p.time + first);
+                lower = node.lower[axis][slot] + time * (close->lower[axis][slot] - node.lower[axis][slot]);
+                upper = node.upper[axis][slot] + time * (close->upper[axis][slot] - node.upper[axis][slot]);
+            }
+            const RayLanes t_lower = (lower - origin) * inv;
+            const RayLanes t_upper = (upper - origin) * inv;
             const RayLanes t_near = lanes_min(t_lower, t_upper);
             const RayLanes t_far = lanes_max(t_lower, t_upper) * bvh::kExitScale;
             enter = t_near > enter ? t_near : enter;
@@ -74,7 +100,7 @@ struct PacketPending {
     return lanes_high(reach);
 }
 
-// node_test(node, reach, t_entry) says which children some ray of the
+// node_test(node, index, reach, t_entry) says which children some ray of the
 // packet may enter before `reach`, with lower bounds of where in t_entry
 // (packet_box_test, or frustum_box_test with zeros). leaf_test(first_block,
 // block_count, rays) tests the leaf's primitives against the rays (a mask)
@@ -95,7 +121,7 @@ template <bvh::Query query, typename NodeTest, typename LeafTest>
         if (!ref.is_leaf()) {
             const bvh::WideNode& node = bvh.nodes[ref.node()];
             alignas(32) float t_entry[bvh::kWideWidth];
-            uint32_t hits = node_test(node, reach, t_entry);
+            uint32_t hits = node_test(node, ref.node(), reach, t_entry);
             if (hits != 0) {
                 // Farthest first onto the stack, the nearest taken now (any-hit: by slot,
                 // as a single ray's any-hit query takes them).
@@ -121,7 +147,8 @@ template <bvh::Query query, typename NodeTest, typename LeafTest>
                 continue;
             }
         } else {
-            const uint32_t rays = rays_entering(bvh.nodes[current.parent], current.slot, p, active);
+            const bvh::WideBoxes* close = bvh.close.empty() ? nullptr : &bvh.close[current.parent];
+            const uint32_t rays = rays_entering(bvh.nodes[current.parent], close, current.slot, p, active);
             if (rays != 0) {
                 if constexpr (query == bvh::Query::any_hit) {
                     active &= ~leaf_test(ref.first_block(), ref.block_count(), rays);

@@ -40,8 +40,8 @@ struct AccelScene {
     static constexpr uint32_t kWorldEntry = kNoInstance - 1;
 
     bool instanced() const { return !top.empty(); }
-    // Whether packets take the packet traversal: a still, opaque world tree only.
-    bool packets_serve() const { return !instanced() && !world.moving && !world.filtered && !world.bvh.empty(); }
+    // Whether packets take the packet traversal: an opaque world tree only.
+    bool packets_serve() const { return !instanced() && !world.filtered && !world.bvh.empty(); }
     const AccelData& tree_of(uint32_t entry) const {
         return entry == kWorldEntry ? world : meshes[scene->instances[entry].mesh];
     }

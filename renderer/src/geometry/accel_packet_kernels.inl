@@ -3,9 +3,10 @@
 // watertight block test as its single-ray query, so the answers are the same.
 // Included by accel_kernels.inl inside its ISA namespace.
 //
-// Only a still, opaque scene without instances takes the packet path; any
-// other scene, and a packet whose rays do not share their direction signs
-// (load_packet), is traced ray by ray.
+// Only an opaque scene without instances takes the packet path (a moving one
+// too, each ray at its own time); any other scene, and a
+// packet whose rays do not share their direction signs (load_packet), is
+// traced ray by ray.
 
 #include "geometry/triangle_rays_test.inl"
 
@@ -29,8 +30,10 @@ inline constexpr uint32_t kRaysPerTriangleTest = kRayLanes / 2;
 // time in leaf order, a register of rays a test. For each test some ray
 // passes, calls found(first, hit, triangle, hits): `hit` has bit i for ray
 // first + i, whose t, u and v are lane i of `hits`; it returns the bits of
-// the rays that leave the packet. Returns the rays left in `in`.
-template <typename Found>
+// the rays that leave the packet. Returns the rays left in `in`. In a moving
+// tree each ray meets the triangle where it is at the ray's time, moved by
+// lerp_block's arithmetic.
+template <bool kMoving, typename Found>
 [[gnu::always_inline]] inline uint32_t leaf_by_triangle(const AccelData& data, const bvh::PacketRays& p,
                                                         const PacketShear& s, uint32_t first_block,
                                                         uint32_t block_count, uint32_t in, Found&& found) {
@@ -38,13 +41,24 @@ template <typename Found>
         const TriangleBlock& block = data.blocks[b];
         for (uint32_t lane = 0; lane < bvh::kBlockWidth; ++lane) {
             if (!block.lane_used(lane)) continue;
-            const vec3 p0 = block.vertex(lane, 0), p1 = block.vertex(lane, 1), p2 = block.vertex(lane, 2);
+            const SharedTriangle still{{block.vertex(lane, 0), block.vertex(lane, 1), block.vertex(lane, 2)}};
             for (uint32_t first = 0; first < p.count; first += kRayLanes) {
                 const uint32_t rays = (in >> first) & kRayLaneBits;
                 if (rays == 0) continue;
                 RaysHits hits;
-                if (const uint32_t hit = intersect_triangle_rays(p, s, first, rays, p0, p1, p2, hits))
-                    in &= ~(found(first, hit, block.triangle(lane), hits) << first);
+                uint32_t hit;
+                if constexpr (kMoving) {
+                    const TriangleBlock& motion = data.blocks_motion[b];
+                    const RayLanes time = lanes_load<RayLanes>(p.time + first);
+                    LaneTriangles moved;
+                    for (int k = 0; k < 3; ++k)
+                        for (int axis = 0; axis < 3; ++axis)
+                            moved.c[k][axis] = block.v[k][axis][lane] + time * motion.v[k][axis][lane];
+                    hit = intersect_triangle_rays(p, s, first, rays, moved, hits);
+                } else {
+                    hit = intersect_triangle_rays(p, s, first, rays, still, hits);
+                }
+                if (hit) in &= ~(found(first, hit, block.triangle(lane), hits) << first);
                 if (in == 0) return 0;
             }
         }
@@ -81,22 +95,30 @@ struct PacketNearest {
     lanes_store(nearest.v + first, nearer ? hits.v : lanes_load<RayLanes>(nearest.v + first));
 }
 
-// A still, opaque world tree only: the caller checks. The rays' hits so far
-// (spheres) stay where no triangle is nearer.
+// An opaque world tree only: the caller checks. The rays' hits so far
+// (spheres) stay where no triangle is nearer. kMoving: the tree moves, and
+// each ray meets it at its own time.
+template <bool kMoving>
 [[gnu::flatten]] inline void closest_packet(const AccelData& data, bvh::PacketRays& p, Hit* hits) {
     const PacketShear shear(p);
     SilentObserver none;
     PacketNearest nearest;  // the triangles', as closest_triangle keeps its own
-    const auto intervals = [&](const bvh::WideNode& node, float reach, float* t_entry) {
-        return packet_box_test(node, p, reach, t_entry);
+    const auto intervals = [&](const bvh::WideNode& node, uint32_t index, float reach, float* t_entry) {
+        if constexpr (kMoving) {
+            alignas(32) float rows[6 * bvh::kWideWidth];
+            swept_rows(node, data.bvh.close[index], p, rows);
+            return packet_box_test(rows, p, reach, t_entry);
+        } else {
+            return packet_box_test(node.lower[0], p, reach, t_entry);
+        }
     };
     traverse_packet<bvh::Query::closest_hit>(data.bvh, p, (1u << p.count) - 1, intervals, [&](uint32_t first_block,
                                                                                           uint32_t block_count,
                                                                                           uint32_t in) {
 
-        prefetch_blocks<false>(data, bvh::ChildRef::leaf(first_block, block_count));
+        prefetch_blocks<kMoving>(data, bvh::ChildRef::leaf(first_block, block_count));
         if (const uint32_t by_triangle = rays_by_triangle(shear, in)) {
-            leaf_by_triangle(data, p, shear, first_block, block_count, by_triangle,
+            leaf_by_triangle<kMoving>(data, p, shear, first_block, block_count, by_triangle,
                              [&](uint32_t first, uint32_t hit, uint32_t triangle, const RaysHits& found) {
                                  keep_nearer(p, nearest, first, hit, triangle, found);
                                  return 0u;
@@ -106,7 +128,7 @@ struct PacketNearest {
         for (; in != 0; in &= in - 1) {
             const uint32_t r = uint32_t(__builtin_ctz(in));
             Hit ray_nearest{p.t_max[r], nearest.primitive[r], nearest.u[r], nearest.v[r]};
-            if (closest_in_leaf<false, false>(data, WatertightRay4(shear.ray(r)), first_block, block_count, 0.0f,
+            if (closest_in_leaf<kMoving, false>(data, WatertightRay4(shear.ray(r)), first_block, block_count, p.time[r],
                                               p.t_max[r], ray_nearest, none)) {
                 p.t_cull[r] = bvh::tie_reach(p.t_max[r]);
                 nearest.primitive[r] = ray_nearest.primitive;
@@ -122,7 +144,7 @@ struct PacketNearest {
 
 // Returns the rays (a mask of those in `active`) an opaque triangle stops.
 // node_test: traverse_packet's.
-template <typename NodeTest>
+template <bool kMoving, typename NodeTest>
 [[gnu::flatten]] inline uint32_t occluded_packet(const AccelData& data, bvh::PacketRays& p, uint32_t active,
                                                  NodeTest&& node_test) {
     const PacketShear shear(p);
@@ -130,10 +152,10 @@ template <typename NodeTest>
     uint32_t stopped = 0;
     traverse_packet<bvh::Query::any_hit>(data.bvh, p, active, node_test, [&](uint32_t first_block,
                                                                              uint32_t block_count, uint32_t in) {
-        prefetch_blocks<false>(data, bvh::ChildRef::leaf(first_block, block_count));
+        prefetch_blocks<kMoving>(data, bvh::ChildRef::leaf(first_block, block_count));
         uint32_t stopped_here = 0;
         if (const uint32_t by_triangle = rays_by_triangle(shear, in)) {
-            stopped_here = by_triangle & ~leaf_by_triangle(data, p, shear, first_block, block_count, by_triangle,
+            stopped_here = by_triangle & ~leaf_by_triangle<kMoving>(data, p, shear, first_block, block_count, by_triangle,
                                                            [](uint32_t, uint32_t hit, uint32_t, const RaysHits&) {
                                                                return hit;
                                                            });
@@ -142,7 +164,7 @@ template <typename NodeTest>
         for (; in != 0; in &= in - 1) {
             const uint32_t r = uint32_t(__builtin_ctz(in));
             float unused = 1.0f;  // an opaque scene's rays pass or stop
-            if (stopped_in_leaf<false, false>(data, WatertightRay4(shear.ray(r)), first_block, block_count, 0.0f,
+            if (stopped_in_leaf<kMoving, false>(data, WatertightRay4(shear.ray(r)), first_block, block_count, p.time[r],
                                               p.t_max[r], unused, none))
                 stopped_here |= 1u << r;
         }
@@ -164,8 +186,35 @@ bool intersect_packet_with(const AccelScene& accel, const Ray* rays, uint32_t co
     else
         for (uint32_t i = 0; i < count; ++i)
             p.t_max[i] = p.t_cull[i] = nearest_sphere(*accel.scene, rays[i], hits[i]).t_max;
-    closest_packet(accel.world, p, hits);
+    if (accel.world.moving)
+        closest_packet<true>(accel.world, p, hits);
+    else
+        closest_packet<false>(accel.world, p, hits);
     return true;
+}
+
+// The rays of `active` that the tree stops, its nodes culled by the
+// intervals or by the frustum (a moving node's boxes swept over the packet's
+// times).
+template <bool kMoving>
+inline uint32_t occluded_by(const AccelData& data, bvh::PacketRays& p, const PacketFrustum& frustum, PacketLoad load,
+                            uint32_t active) {
+    alignas(32) float swept[6 * bvh::kWideWidth];
+    const auto rows_of = [&](const bvh::WideNode& node, uint32_t index) -> const float* {
+        if constexpr (!kMoving) return node.lower[0];
+        swept_rows(node, data.bvh.close[index], p, swept);
+        return swept;
+    };
+    if (load == PacketLoad::intervals)
+        return occluded_packet<kMoving>(data, p, active, [&](const bvh::WideNode& node, uint32_t index, float reach,
+                                                             float* t_entry) {
+            return packet_box_test(rows_of(node, index), p, reach, t_entry);
+        });
+    return occluded_packet<kMoving>(data, p, active, [&](const bvh::WideNode& node, uint32_t index, float,
+                                                         float* t_entry) {
+        std::fill_n(t_entry, bvh::kWideWidth, 0.0f);
+        return frustum_box_test(rows_of(node, index), frustum);
+    });
 }
 
 // Packets the intervals bound (a camera's, an orthographic one's, a point's
@@ -187,16 +236,8 @@ bool visibility_packet_with(const AccelScene& accel, const Ray* rays, uint32_t c
         visibility[i] = blocked ? 0.0f : 1.0f;
         active |= uint32_t(!blocked) << i;
     }
-    uint32_t stopped;
-    if (load == PacketLoad::intervals)
-        stopped = occluded_packet(accel.world, p, active, [&](const bvh::WideNode& node, float reach, float* t_entry) {
-            return packet_box_test(node, p, reach, t_entry);
-        });
-    else
-        stopped = occluded_packet(accel.world, p, active, [&](const bvh::WideNode& node, float, float* t_entry) {
-            std::fill_n(t_entry, bvh::kWideWidth, 0.0f);
-            return frustum_box_test(node, frustum);
-        });
+    uint32_t stopped = accel.world.moving ? occluded_by<true>(accel.world, p, frustum, load, active)
+                                          : occluded_by<false>(accel.world, p, frustum, load, active);
     for (; stopped != 0; stopped &= stopped - 1) visibility[__builtin_ctz(stopped)] = 0.0f;
     return true;
 }

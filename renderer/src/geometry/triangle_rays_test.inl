@@ -66,23 +66,37 @@ struct RaysHits {
     RayLanes t, u, v;
 };
 
+// A triangle's vertices as every lane sees them: one triangle for all rays,
+// or, in a moving scene, each ray's own, the triangle at its time.
+struct SharedTriangle {
+    vec3 p[3];
+    RayLanes coordinate(int k, int axis) const { return lanes_splat<RayLanes>(p[k][axis]); }
+    vec3 vertex(int k, uint32_t) const { return p[k]; }
+};
+struct LaneTriangles {
+    RayLanes c[3][3];  // [vertex][axis]
+    RayLanes coordinate(int k, int axis) const { return c[k][axis]; }
+    vec3 vertex(int k, uint32_t lane) const { return {c[k][0][lane], c[k][1][lane], c[k][2][lane]}; }
+};
+
 // Bit i set: ray first + i hits the triangle with 0 < t < t_cull[i]; hits.t/u/v
 // lane i then hold its hit. `rays` (kRayLanes bits) says which lanes to test; the
-// others answer nothing.
+// others answer nothing. `tri`: a SharedTriangle or LaneTriangles.
+template <typename Triangle>
 [[gnu::always_inline]] inline uint32_t intersect_triangle_rays(const bvh::PacketRays& p, const PacketShear& s,
-                                                               uint32_t first, uint32_t rays, vec3 p0, vec3 p1,
-                                                               vec3 p2, RaysHits& hits) {
+                                                               uint32_t first, uint32_t rays, const Triangle& tri,
+                                                               RaysHits& hits) {
     const RayLanes ox = lanes_load<RayLanes>(p.origin[s.kx] + first), oy = lanes_load<RayLanes>(p.origin[s.ky] + first),
                       oz = lanes_load<RayLanes>(p.origin[s.kz] + first);
     const RayLanes sx = lanes_load<RayLanes>(s.sx + first), sy = lanes_load<RayLanes>(s.sy + first);
-    const RayLanes a_z = lanes_splat<RayLanes>(p0[s.kz]) - oz, b_z = lanes_splat<RayLanes>(p1[s.kz]) - oz,
-                      c_z = lanes_splat<RayLanes>(p2[s.kz]) - oz;
-    const RayLanes ax = (lanes_splat<RayLanes>(p0[s.kx]) - ox) - sx * a_z;
-    const RayLanes ay = (lanes_splat<RayLanes>(p0[s.ky]) - oy) - sy * a_z;
-    const RayLanes bx = (lanes_splat<RayLanes>(p1[s.kx]) - ox) - sx * b_z;
-    const RayLanes by = (lanes_splat<RayLanes>(p1[s.ky]) - oy) - sy * b_z;
-    const RayLanes cx = (lanes_splat<RayLanes>(p2[s.kx]) - ox) - sx * c_z;
-    const RayLanes cy = (lanes_splat<RayLanes>(p2[s.ky]) - oy) - sy * c_z;
+    const RayLanes a_z = tri.coordinate(0, s.kz) - oz, b_z = tri.coordinate(1, s.kz) - oz,
+                   c_z = tri.coordinate(2, s.kz) - oz;
+    const RayLanes ax = (tri.coordinate(0, s.kx) - ox) - sx * a_z;
+    const RayLanes ay = (tri.coordinate(0, s.ky) - oy) - sy * a_z;
+    const RayLanes bx = (tri.coordinate(1, s.kx) - ox) - sx * b_z;
+    const RayLanes by = (tri.coordinate(1, s.ky) - oy) - sy * b_z;
+    const RayLanes cx = (tri.coordinate(2, s.kx) - ox) - sx * c_z;
+    const RayLanes cy = (tri.coordinate(2, s.ky) - oy) - sy * c_z;
 
     const RayLanes e0 = cx * by - cy * bx;
     const RayLanes e1 = ax * cy - ay * cx;
@@ -138,7 +152,9 @@ struct RaysHits {
     for (uint32_t lanes = exact_zero; lanes != 0; lanes &= lanes - 1) {
         const uint32_t lane = uint32_t(__builtin_ctz(lanes));
         TriangleHit hit;
-        if (!intersect_triangle(s.ray(first + lane), p0, p1, p2, p.t_cull[first + lane], hit)) continue;
+        if (!intersect_triangle(s.ray(first + lane), tri.vertex(0, lane), tri.vertex(1, lane), tri.vertex(2, lane),
+                                p.t_cull[first + lane], hit))
+            continue;
         hits.t[lane] = hit.t, hits.u[lane] = hit.u, hits.v[lane] = hit.v;
         hit_lanes |= 1u << lane;
     }

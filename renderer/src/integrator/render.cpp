@@ -34,12 +34,13 @@ Renderer::Renderer(const Accelerator& accel, RenderSettings settings, Camera cam
       film_(settings_),
       stopping_(settings_.adaptive_threshold(), settings_.samples_per_pixel()),
       integrator_(accel, settings_) {
-    if (!view_.moving() && !accel.scene().moving()) {
-        if (accel.packets_serve()) packets_ = &accel;
-        return;
+    if (view_.moving() || accel.scene().moving()) {
+        sample_times_ = settings_.motion_blur() == TIME_SAMPLED;
+        if (settings_.motion_blur() == FRAMES) motion_frames_ = settings_.motion_frames();
     }
-    sample_times_ = settings_.motion_blur() == TIME_SAMPLED;
-    if (settings_.motion_blur() == FRAMES) motion_frames_ = settings_.motion_frames();
+    // Frames are rendered one after another, each pixel's samples per frame:
+    // not the packets' loop.
+    if (accel.packets_serve() && motion_frames_ == 0) packets_ = &accel;
 }
 
 uint32_t Renderer::pixel_key(uint32_t x, uint32_t y) { return hash_combine(mix_bits(x), y); }
@@ -172,8 +173,9 @@ void Renderer::render_packet(const PacketPixels& block, float* rgb, RenderStats&
     uint32_t sampling = (1u << block.count) - 1;  // the pixels still taking samples
     for (uint32_t i = 0; i < count && sampling != 0; ++i) {
         if (stop.stop_requested()) throw RenderStopped();
-        // estimate_frame's rays and samplers for sample i of each pixel, at
-        // the middle of the shutter interval: nothing moves.
+        // estimate_frame's rays and samplers for sample i of each pixel, each
+        // at its sample's time when time is sampled (a lone sample at the
+        // middle of the shutter interval).
         const uint32_t sample = count == 1 ? 0 : i;
         std::array<Ray, Accelerator::kPacketSize> rays;
         std::array<uint32_t, Accelerator::kPacketSize> pixel;
@@ -182,8 +184,10 @@ void Renderer::render_packet(const PacketPixels& block, float* rgb, RenderStats&
             const uint32_t k = uint32_t(std::countr_zero(left));
             const uint32_t x = block.x[k], y = block.y[k];
             pixel[n] = k;
-            const vec2 offset = count == 1 ? vec2(0.0f) : film_.offset(PixelSampler(block.key[k], sample));
-            rays[n] = view_.generate_ray(float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y, 0.5f);
+            const PixelSampler sampler(block.key[k], sample);
+            const vec2 offset = count == 1 ? vec2(0.0f) : film_.offset(sampler);
+            const float time = count == 1 || !sample_times_ ? 0.5f : sampler.time();
+            rays[n] = view_.generate_ray(float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y, time);
         }
         std::array<Hit, Accelerator::kPacketSize> hits;
         packets_->intersect(std::span(rays.data(), n), std::span(hits.data(), n));

@@ -119,8 +119,8 @@ class Renderer {
     // The colours of `block`'s pixels, each sample's camera rays traced as one
     // packet (Accelerator::intersect over a span), each pixel's samples taken
     // in their own order and stopped by their own rule: each pixel gets the
-    // value render_pixel gives it. For the colour alone of a still scene the
-    // packet path serves (packets_).
+    // value render_pixel gives it. For the colour alone of a scene the packet
+    // path serves, unless motion is rendered as frames (packets_).
     void render_packet(const PacketPixels& block, float* rgb, RenderStats& stats, const std::stop_token& stop) const;
     // Pixels per side of the blocks a tile is walked in.
     static constexpr uint32_t kCacheBlock = 16;
@@ -144,7 +144,8 @@ class Renderer {
     // (TIME_SAMPLED), or motion_frames_ > 0 frames are averaged (FRAMES).
     bool sample_times_ = false;
     uint32_t motion_frames_ = 0;
-    // Set when nothing moves and the scene takes packet queries: the colour
+    // Set when the scene takes packet queries (a moving one too, each ray at
+    // its sample's time) and motion is not rendered as frames: the colour
     // pixels' camera rays then go in packets.
     const Accelerator* packets_ = nullptr;
 };
