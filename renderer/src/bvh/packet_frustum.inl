@@ -24,21 +24,6 @@ struct PacketFrustum {
     uint32_t row[kPlanes][3];
 };
 
-// The largest magnitude of a coordinate in the tree (its root's boxes, at
-// open and at close in a moving tree), 0 for an empty tree: what bounds the
-// rounding of a plane's product with a corner.
-inline float tree_scale(const bvh::WideBvh& bvh) {
-    if (bvh.empty()) return 0.0f;
-    NodeLanes scale = {};
-    for (const float* rows : {bvh.nodes[0].lower[0], bvh.close.empty() ? nullptr : bvh.close[0].lower[0]}) {
-        if (!rows) continue;
-        const NodeMask used = lanes_load<NodeLanes>(rows) <= lanes_load<NodeLanes>(rows + 3 * bvh::kWideWidth);
-        for (uint32_t row = 0; row < 6; ++row)
-            scale = lanes_max(scale, used ? lanes_abs(lanes_load<NodeLanes>(rows + row * bvh::kWideWidth)) : NodeLanes{});
-    }
-    return lanes_high(scale);
-}
-
 // Unit vectors u, v that make an orthonormal basis with unit c (Duff et al.,
 // "Building an Orthonormal Basis, Revisited", 2017).
 inline void orthonormal_basis(vec3 c, vec3& u, vec3& v) {
@@ -64,8 +49,9 @@ inline constexpr float kMaxDivergeSlope = 0.2f;
 // area light) or about their ends (shadow rays from many points towards one
 // light). False when some t_max is infinite, or the segments do not meet
 // within kMaxFrustumSlope of a point well apart from their other ends.
-// `scale`: tree_scale. A register of rays at a time: ray by ray, with a
-// square root and two divisions each, it took as long as the traversal.
+// `scale`: AccelData::coordinate_scale. A register of rays at a time: ray by
+// ray, with a square root and two divisions each, it took as long as the
+// traversal.
 inline bool make_frustum(PacketFrustum& f, const bvh::PacketRays& p, float scale, bool diverge) {
     const float max_slope = diverge ? kMaxDivergeSlope : kMaxFrustumSlope;
     constexpr uint32_t kGroups = bvh::kPacketSize / kRayLanes;

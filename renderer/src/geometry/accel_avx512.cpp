@@ -23,16 +23,8 @@
 
 namespace rt::avx512 {
 
-#include "bvh/wide_box_test_avx2.inl"
-#include "geometry/triangle_block_test_avx2.inl"
-#include "bvh/wide_traverse.inl"
-// Which path these kernels are (bvh/packet_lanes.inl sizes its registers by it).
 inline constexpr SimdPath kSimdPath = SimdPath::avx512;
-#include "bvh/packet_lanes.inl"
-#include "bvh/packet_setup.inl"
-#include "bvh/packet_frustum.inl"
-#include "bvh/packet_traverse.inl"
-#include "geometry/accel_kernels.inl"
+#include "geometry/accel_avx_kernels.inl"
 
 }  // namespace rt::avx512
 

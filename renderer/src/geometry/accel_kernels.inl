@@ -1,8 +1,8 @@
 // The scene's ray queries over the wide BVH and its triangle blocks, compiled
-// once per SIMD path: accel_generic.cpp and accel_avx2.cpp include this inside
-// their ISA namespace, after wide_box_test for that path and
-// bvh/wide_traverse.inl. Everything here is defined per ISA, so no function
-// compiled for AVX2 is ever shared with code that runs without it.
+// once per SIMD path: accel_generic.cpp and accel_avx_kernels.inl (AVX2 and
+// AVX-512) include this inside their ISA namespace, after wide_box_test for
+// that path and bvh/wide_traverse.inl. Everything here is defined per ISA, so
+// no function compiled for AVX is ever shared with code that runs without it.
 //
 // kMoving: the scene moves; kFiltered: some triangle has alpha, and hits on it
 // pass the hit filter. Template flags, so a still, opaque scene's leaves pay

@@ -226,7 +226,7 @@ bool visibility_packet_with(const AccelScene& accel, const Ray* rays, uint32_t c
     PacketFrustum frustum;
     const PacketLoad load = count < 2 || !accel.packets_serve() ? PacketLoad::refused : load_packet(p, rays, count);
     if (load == PacketLoad::refused ||
-        (load == PacketLoad::rays && !make_frustum(frustum, p, tree_scale(accel.world.bvh), p.shared_origin))) {
+        (load == PacketLoad::rays && !make_frustum(frustum, p, accel.world.coordinate_scale, p.shared_origin))) {
         for (uint32_t i = 0; i < count; ++i) visibility[i] = visibility_with(accel, rays[i], SilentObserver{});
         return false;
     }

@@ -30,27 +30,41 @@ vec3 mirror_direction(vec3 direction, const SurfaceHit& s) {
     return glm::dot(mirrored, s.ng) > 0.0f ? mirrored : glm::reflect(direction, s.ng);
 }
 
-// A light's `count` shadow rays from one point, a packet at a time: the rays
-// of one point towards one light leave from one origin in nearby directions,
-// a cone the packet kernels bound with one interval test per node.
-// sample(i, ray, data) makes sample i's ray and what its shading needs
-// (false: it has none); shade(data, visibility, id) adds what a ray that is
-// not wholly blocked brings, in sample order, as a ray-by-ray loop would.
-template <class Data, class Recorder, class Sample, class Shade>
-void trace_light_samples(Recorder& recorder, const Accelerator& accel, uint32_t count, uint32_t depth, int parent,
-                         uint32_t light, Sample&& sample, Shade&& shade) {
+// One of a light's samples as seen from a shaded point: the direction to it,
+// the radiance it carries over its probability density, and cos theta.
+struct LightSample {
+    vec3 wi, weight;
+    float cos_theta;
+};
+
+// What a light's `count` samples bring to one point: their shadow rays go a
+// packet at a time (from one origin in nearby directions, a cone the packet
+// kernels bound with one interval test per node), and each unblocked one adds
+// brdf(wi) weight cos / count (visibility opacity), in sample order, as a
+// ray-by-ray loop would. sample(i, ray, lit) makes sample i's shadow ray and
+// LightSample (false: it has none).
+template <class Recorder, class Sample, class Brdf>
+vec3 light_samples_radiance(Recorder& recorder, const Accelerator& accel, uint32_t count, uint32_t depth, int parent,
+                            uint32_t light, vec3 opacity, Sample&& sample, Brdf&& brdf) {
     constexpr uint32_t kPacket = Accelerator::kPacketSize;
+    vec3 sum(0.0f);
     for (uint32_t first = 0; first < count; first += kPacket) {
         Ray rays[kPacket];
-        Data data[kPacket];
+        LightSample lit[kPacket];
         uint32_t n = 0;
-        for (uint32_t i = first; i < std::min(count, first + kPacket); ++i) n += sample(i, rays[n], data[n]);
+        for (uint32_t i = first; i < std::min(count, first + kPacket); ++i) n += sample(i, rays[n], lit[n]);
         float visibility[kPacket];
         int ids[kPacket];
         recorder.shadows(accel, std::span<const Ray>(rays, n), depth, parent, light, visibility, ids);
-        for (uint32_t k = 0; k < n; ++k)
-            if (visibility[k] != 0.0f) shade(data[k], visibility[k], ids[k]);
+        for (uint32_t k = 0; k < n; ++k) {
+            if (visibility[k] == 0.0f) continue;
+            const vec3 c = brdf(lit[k].wi) * lit[k].weight * (lit[k].cos_theta / float(count)) *
+                           (visibility[k] * opacity);
+            recorder.contribution(ids[k], c);
+            sum += c;
+        }
     }
+    return sum;
 }
 
 }  // namespace
@@ -281,6 +295,7 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Surface
     // near a low-poly mesh's terminator the facet already faces away where
     // the smooth surface is lit, and its shadow rays start on the smooth
     // surface (shadow_terminator.h). A normal map cannot light what lies below.
+    const auto brdf = [&](vec3 wi) { return phong_brdf(m.diffuse, m.specular, m.shininess, s.ns, wo, wi); };
     vec3 color(0.0f);
     for (size_t light_index = 0; light_index < light_count_; ++light_index) {
         const Light& light = scene_.lights[light_index];
@@ -308,8 +323,8 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Surface
             if (visibility == 0.0f) continue;
             // Intensity first: cos / d^2 alone overflows for lights closer than
             // 1e-19, where the irradiance of a light scaled with its scene does not.
-            const vec3 c = phong_brdf(m.diffuse, m.specular, m.shininess, s.ns, wo, wi) *
-                           (light.intensity * (attenuation * cos_theta) / distance_squared) * (visibility * opacity);
+            const vec3 c =
+                brdf(wi) * (light.intensity * (attenuation * cos_theta) / distance_squared) * (visibility * opacity);
             recorder.contribution(shadow, c);
             color += c;
             continue;
@@ -318,14 +333,9 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Surface
         // A spherical light: light_samples points on it, each pixel sample
         // taking its own share of the light's sample dimension.
         const SphereLightSampler light_sampler(light, light_sampling_, s.p);
-        struct Lit {
-            vec3 wi, weight;
-            float cos_theta;
-        };
-        vec3 sum(0.0f);
-        trace_light_samples<Lit>(
-            recorder, accel_, light_samples_, depth, parent, uint32_t(light_index),
-            [&](uint32_t i, Ray& ray, Lit& lit) {
+        color += light_samples_radiance(
+            recorder, accel_, light_samples_, depth, parent, uint32_t(light_index), opacity,
+            [&](uint32_t i, Ray& ray, LightSample& lit) {
                 SphereLightSample sample;
                 const vec2 u = sampler.get_2d(uint32_t(light_index), i, light_samples_);
                 if (!light_sampler.sample(u, sample)) return false;
@@ -335,13 +345,7 @@ vec3 WhittedIntegrator::direct_light(const SurfaceHit& s, vec3 wo, const Surface
                 lit = {sample.wi, sample.weight, cos_theta};
                 return true;
             },
-            [&](const Lit& lit, float visibility, int shadow) {
-                const vec3 c = phong_brdf(m.diffuse, m.specular, m.shininess, s.ns, wo, lit.wi) * lit.weight *
-                               (lit.cos_theta / float(light_samples_)) * (visibility * opacity);
-                recorder.contribution(shadow, c);
-                sum += c;
-            });
-        color += sum;
+            brdf);
     }
     return color;
 }
@@ -357,28 +361,17 @@ vec3 WhittedIntegrator::sun_light(const SurfaceHit& s, vec3 wo, const SurfaceMat
     const bool soft = light.angular_diameter > 0.0f;
     const uint32_t count = soft ? light_samples_ : 1;
     const SunSampler sun(light);
-    struct Lit {
-        vec3 wi;
-        float cos_theta;
-    };
-    vec3 sum(0.0f);
-    trace_light_samples<Lit>(
-        recorder, accel_, count, depth, parent, light_index,
-        [&](uint32_t i, Ray& ray, Lit& lit) {
+    return light_samples_radiance(
+        recorder, accel_, count, depth, parent, light_index, opacity,
+        [&](uint32_t i, Ray& ray, LightSample& lit) {
             const vec3 wi = soft ? sun.sample(sampler.get_2d(light_index, i, count)) : -light.direction;
             const float cos_theta = glm::dot(s.ns, wi);
             if (cos_theta <= 0.0f || glm::dot(s.n_smooth, wi) <= 0.0f) return false;
             ray = spawn_ray(s.p, s.p_error, s.ng, wi, s.time);
-            lit = {wi, cos_theta};
+            lit = {wi, light.intensity, cos_theta};
             return true;
         },
-        [&](const Lit& lit, float visibility, int shadow) {
-            const vec3 c = phong_brdf(m.diffuse, m.specular, m.shininess, s.ns, wo, lit.wi) * light.intensity *
-                           (lit.cos_theta / float(count)) * (visibility * opacity);
-            recorder.contribution(shadow, c);
-            sum += c;
-        });
-    return sum;
+        [&](vec3 wi) { return phong_brdf(m.diffuse, m.specular, m.shininess, s.ns, wo, wi); });
 }
 
 }  // namespace rt
