@@ -139,15 +139,24 @@ TEST(Render, MovingCameraPacketsGiveTheImageOfSingleRays) {
     scene.normals_close = scene.normals;
     const Accelerator accel(scene, 2);
     ASSERT_TRUE(accel.packets_serve());
-    for (uint32_t samples : {1u, 6u}) {
+    // 36 samples with adaptive sampling: packets of rays sorted by time from
+    // groups of 8 samples, then 4, while pixels stop after 32 (the rule's
+    // minimum at this threshold) or go on.
+    for (uint32_t samples : {1u, 6u, 36u}) {
         RenderSettings settings = make_settings(61, 45);
         settings.set_samples_per_pixel(samples);
+        if (samples == 36) settings.set_adaptive_threshold(0.5f);
         const Renderer renderer(accel, settings, default_camera(scene));
         RenderStats single_stats, stats;
         AuxImage aux(61, 45, {DEPTH});
         const Image single = renderer.render(2, 16, nullptr, single_stats, &aux);
         EXPECT_EQ(renderer.render(2, 16, nullptr, stats).rgb, single.rgb) << samples << " spp";
         EXPECT_EQ(stats.rays.total(), single_stats.rays.total());
+        EXPECT_EQ(stats.samples, single_stats.samples);
+        if (samples == 36) {
+            EXPECT_LT(stats.samples, 61u * 45u * 36u) << "some pixels stop early";
+            EXPECT_GT(stats.samples, 61u * 45u * 32u) << "some pixels do not";
+        }
     }
 }
 

@@ -34,16 +34,16 @@
 // A moving node's plane rows over the packet's times: per row the lower of
 // its rows at time_low and time_high for the lower planes, the higher for
 // the upper ones. The boxes at any time between lie within, as
-// open + t (close - open) is monotone in t, rounding included; each ray's own
+// open + t * motion is monotone in t, rounding included; each ray's own
 // box is the single-ray test's (wide_box_test's plane_row).
-[[gnu::always_inline]] inline void swept_rows(const bvh::WideNode& node, const bvh::WideBoxes& close,
+[[gnu::always_inline]] inline void swept_rows(const bvh::WideNode& node, const bvh::WideBoxes& motion,
                                               const bvh::PacketRays& p, float* rows) {
     const float* open = node.lower[0];
-    const float* shut = close.lower[0];
+    const float* moves = motion.lower[0];
     for (uint32_t row = 0; row < 6; ++row) {
         const NodeLanes at_open = lanes_load<NodeLanes>(open + row * bvh::kWideWidth);
-        const NodeLanes motion = lanes_load<NodeLanes>(shut + row * bvh::kWideWidth) - at_open;
-        const NodeLanes early = at_open + p.time_low * motion, late = at_open + p.time_high * motion;
+        const NodeLanes by = lanes_load<NodeLanes>(moves + row * bvh::kWideWidth);
+        const NodeLanes early = at_open + p.time_low * by, late = at_open + p.time_high * by;
         lanes_store(rows + row * bvh::kWideWidth, row < 3 ? lanes_min(early, late) : lanes_max(early, late));
     }
 }
@@ -53,9 +53,9 @@
 // ray's entry plane is the one it meets first, whichever way it runs: with a
 // finite reciprocal (load_packet checks) the two distances are ordered as
 // the ray's own choice of planes orders them, bit for bit.
-// `close`: a moving node's boxes at shutter close, each ray's box taken at its
-// own time as its single-ray test takes it; null for a still tree.
-[[gnu::always_inline]] inline uint32_t rays_entering(const bvh::WideNode& node, const bvh::WideBoxes* close,
+// `motion`: a moving node's box motion, each ray's box taken at its own time
+// as its single-ray test takes it; null for a still tree.
+[[gnu::always_inline]] inline uint32_t rays_entering(const bvh::WideNode& node, const bvh::WideBoxes* motion,
                                                      uint32_t slot, const bvh::PacketRays& p, uint32_t rays) {
     uint32_t entering = 0;
     for (uint32_t first = 0; first < p.count; first += kRayLanes) {
@@ -68,10 +68,10 @@
             const RayLanes inv = lanes_load<RayLanes>(p.inv_direction[axis] + first);
             RayLanes lower = lanes_splat<RayLanes>(node.lower[axis][slot]);
             RayLanes upper = lanes_splat<RayLanes>(node.upper[axis][slot]);
-            if (close) {
+            if (motion) {
                 const RayLanes time = lanes_load<RayLanes>(p.time + first);
-                lower = node.lower[axis][slot] + time * (close->lower[axis][slot] - node.lower[axis][slot]);
-                upper = node.upper[axis][slot] + time * (close->upper[axis][slot] - node.upper[axis][slot]);
+                lower = node.lower[axis][slot] + time * motion->lower[axis][slot];
+                upper = node.upper[axis][slot] + time * motion->upper[axis][slot];
             }
             const RayLanes t_lower = (lower - origin) * inv;
             const RayLanes t_upper = (upper - origin) * inv;
@@ -147,8 +147,8 @@ template <bvh::Query query, typename NodeTest, typename LeafTest>
                 continue;
             }
         } else {
-            const bvh::WideBoxes* close = bvh.close.empty() ? nullptr : &bvh.close[current.parent];
-            const uint32_t rays = rays_entering(bvh.nodes[current.parent], close, current.slot, p, active);
+            const bvh::WideBoxes* motion = bvh.motion.empty() ? nullptr : &bvh.motion[current.parent];
+            const uint32_t rays = rays_entering(bvh.nodes[current.parent], motion, current.slot, p, active);
             if (rays != 0) {
                 if constexpr (query == bvh::Query::any_hit) {
                     active &= ~leaf_test(ref.first_block(), ref.block_count(), rays);

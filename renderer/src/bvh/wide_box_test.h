@@ -41,14 +41,15 @@ static_assert(offsetof(WideNode, upper) == 3 * kWideWidth * sizeof(float));
 static_assert(offsetof(WideBoxes, upper) == offsetof(WideNode, upper));
 
 // A plane row of four children's boxes; in a moving tree interpolated to the
-// ray's time (lerp_position's arithmetic).
+// ray's time (lerp_position's arithmetic, its difference stored).
 template <bool kMoving>
-[[gnu::always_inline]] inline __m128 plane_row_sse2(const float* open, const float* close, uint32_t offset, __m128 time) {
+[[gnu::always_inline]] inline __m128 plane_row_sse2(const float* open, const float* motion, uint32_t offset,
+                                                    __m128 time) {
     const __m128 at_open = _mm_load_ps(open + offset);
     if constexpr (!kMoving) {
         return at_open;
     } else {
-        return _mm_add_ps(at_open, _mm_mul_ps(time, _mm_sub_ps(_mm_load_ps(close + offset), at_open)));
+        return _mm_add_ps(at_open, _mm_mul_ps(time, _mm_load_ps(motion + offset)));
     }
 }
 
@@ -57,9 +58,9 @@ template <bool kMoving>
 // `close` (the node's WideBoxes) and `time` are read only when kMoving.
 template <bool kMoving = false>
 inline uint32_t wide_box_test_sse2(const WideNode& node, const WideBoxRay& ray, float t_max, float* t_entry,
-                                   const WideBoxes* close = nullptr, float time = 0.0f) {
+                                   const WideBoxes* motion = nullptr, float time = 0.0f) {
     const float* rows = node.lower[0];
-    const float* close_rows = kMoving ? close->lower[0] : nullptr;
+    const float* motion_rows = kMoving ? motion->lower[0] : nullptr;
     const __m128 time4 = _mm_set1_ps(time);
     uint32_t hits = 0;
     for (uint32_t half = 0; half < kWideWidth; half += 4) {
@@ -68,8 +69,8 @@ inline uint32_t wide_box_test_sse2(const WideNode& node, const WideBoxRay& ray, 
         for (int axis = 0; axis < 3; ++axis) {
             const __m128 origin = _mm_set1_ps(ray.origin[axis]);
             const __m128 inv = _mm_set1_ps(ray.inv_direction[axis]);
-            const __m128 near_plane = plane_row_sse2<kMoving>(rows, close_rows, ray.near_row[axis] + half, time4);
-            const __m128 far_plane = plane_row_sse2<kMoving>(rows, close_rows, ray.far_row[axis] + half, time4);
+            const __m128 near_plane = plane_row_sse2<kMoving>(rows, motion_rows, ray.near_row[axis] + half, time4);
+            const __m128 far_plane = plane_row_sse2<kMoving>(rows, motion_rows, ray.far_row[axis] + half, time4);
             const __m128 t_near = _mm_mul_ps(_mm_sub_ps(near_plane, origin), inv);
             const __m128 t_far = _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(far_plane, origin), inv), _mm_set1_ps(kExitScale));
             // max/min return their second operand when either is NaN, as the

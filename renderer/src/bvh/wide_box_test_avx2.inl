@@ -3,28 +3,28 @@
 // `#pragma GCC target("avx2,...")`, inside its ISA namespace).
 
 template <bool kMoving>
-[[gnu::always_inline]] inline __m256 plane_row(const float* open, const float* close, uint32_t offset, __m256 time) {
+[[gnu::always_inline]] inline __m256 plane_row(const float* open, const float* motion, uint32_t offset, __m256 time) {
     const __m256 at_open = _mm256_load_ps(open + offset);
     if constexpr (!kMoving) {
         return at_open;
     } else {
-        return _mm256_add_ps(at_open, _mm256_mul_ps(time, _mm256_sub_ps(_mm256_load_ps(close + offset), at_open)));
+        return _mm256_add_ps(at_open, _mm256_mul_ps(time, _mm256_load_ps(motion + offset)));
     }
 }
 
 template <bool kMoving>
 [[gnu::always_inline]] inline uint32_t wide_box_test(const bvh::WideNode& node, const bvh::WideBoxRay& ray, float t_max,
-                                                     float* t_entry, const bvh::WideBoxes* close, float time) {
+                                                     float* t_entry, const bvh::WideBoxes* motion, float time) {
     const float* rows = node.lower[0];
-    const float* close_rows = kMoving ? close->lower[0] : nullptr;
+    const float* motion_rows = kMoving ? motion->lower[0] : nullptr;
     const __m256 time8 = _mm256_set1_ps(time);
     __m256 enter = _mm256_setzero_ps();
     __m256 exit = _mm256_set1_ps(t_max);
     for (int axis = 0; axis < 3; ++axis) {
         const __m256 origin = _mm256_set1_ps(ray.origin[axis]);
         const __m256 inv = _mm256_set1_ps(ray.inv_direction[axis]);
-        const __m256 near_plane = plane_row<kMoving>(rows, close_rows, ray.near_row[axis], time8);
-        const __m256 far_plane = plane_row<kMoving>(rows, close_rows, ray.far_row[axis], time8);
+        const __m256 near_plane = plane_row<kMoving>(rows, motion_rows, ray.near_row[axis], time8);
+        const __m256 far_plane = plane_row<kMoving>(rows, motion_rows, ray.far_row[axis], time8);
         const __m256 t_near = _mm256_mul_ps(_mm256_sub_ps(near_plane, origin), inv);
         const __m256 t_far = _mm256_mul_ps(_mm256_mul_ps(_mm256_sub_ps(far_plane, origin), inv),
                                            _mm256_set1_ps(bvh::kExitScale));

@@ -88,7 +88,7 @@ float magnitude(const Bounds3& a, const Bounds3& b) {
 }  // namespace
 
 void refit_motion(WideBvh& bvh, std::span<const Bounds3> open, std::span<const Bounds3> close) {
-    bvh.close.assign(bvh.nodes.size(), WideBoxes{});
+    bvh.motion.assign(bvh.nodes.size(), WideBoxes{});
     std::vector<Bounds3> node_open(bvh.nodes.size()), node_close(bvh.nodes.size());
     // Children follow their parents: a backward pass has every child's boxes ready.
     for (size_t i = bvh.nodes.size(); i-- > 0;) {
@@ -102,8 +102,8 @@ void refit_motion(WideBvh& bvh, std::span<const Bounds3> open, std::span<const B
                 const Bounds3 never{vec3(kMax), vec3(-kMax)};
                 node.set_child(c, child, never);
                 for (int axis = 0; axis < 3; ++axis) {
-                    bvh.close[i].lower[axis][c] = kMax;
-                    bvh.close[i].upper[axis][c] = -kMax;
+                    bvh.motion[i].lower[axis][c] = 0.0f;
+                    bvh.motion[i].upper[axis][c] = 0.0f;
                 }
                 continue;
             }
@@ -124,9 +124,10 @@ void refit_motion(WideBvh& bvh, std::span<const Bounds3> open, std::span<const B
             const float scale = magnitude(at_open, at_close);
             const Bounds3 o = widened(at_open, scale), k = widened(at_close, scale);
             node.set_child(c, child, o);
+            // The difference the box test's interpolation took, rounded as it rounded it.
             for (int axis = 0; axis < 3; ++axis) {
-                bvh.close[i].lower[axis][c] = k.min[axis];
-                bvh.close[i].upper[axis][c] = k.max[axis];
+                bvh.motion[i].lower[axis][c] = k.min[axis] - o.min[axis];
+                bvh.motion[i].upper[axis][c] = k.max[axis] - o.max[axis];
             }
         }
     }

@@ -25,8 +25,9 @@ struct WideBvh {
     // nodes[0] is the root; every child node comes after its parent. Empty
     // when there are no primitives.
     std::vector<WideNode> nodes;
-    // One per node for a moving scene (refit_motion), else empty.
-    std::vector<WideBoxes> close;
+    // One per node for a moving scene (refit_motion), else empty: how far each
+    // child's box planes move from shutter open to close.
+    std::vector<WideBoxes> motion;
     // kBlockWidth entries per block, in leaf order; kNoPrim pads a leaf's last block.
     std::vector<uint32_t> prim_ids;
     uint32_t depth = 0;  // wide levels below the root, leaves counted as a level
@@ -34,11 +35,16 @@ struct WideBvh {
     bool empty() const { return nodes.empty(); }
     size_t block_count() const { return prim_ids.size() / kBlockWidth; }
     size_t leaf_count() const;
-    size_t node_bytes() const { return nodes.size() * sizeof(WideNode) + close.size() * sizeof(WideBoxes); }
+    size_t node_bytes() const { return nodes.size() * sizeof(WideNode) + motion.size() * sizeof(WideBoxes); }
+    // Child i of `node` at shutter close, as the box test takes it at time 1.
+    Bounds3 child_bounds_at_close(uint32_t node, uint32_t i) const {
+        const Bounds3 open = nodes[node].child_bounds(i);
+        return {open.min + motion[node].child_bounds(i).min, open.max + motion[node].child_bounds(i).max};
+    }
     // Child i of `node` over the whole shutter interval.
     Bounds3 child_bounds(uint32_t node, uint32_t i) const {
         Bounds3 b = nodes[node].child_bounds(i);
-        if (!close.empty()) b.extend(close[node].child_bounds(i));
+        if (!motion.empty()) b.extend(child_bounds_at_close(node, i));
         return b;
     }
 

@@ -79,11 +79,13 @@ struct alignas(32) WideNode {
 
 static_assert(sizeof(WideNode) == 224);
 
-// A moving scene's node boxes at shutter close; WideNode holds those at open.
-// A ray at time t tests the boxes interpolated between the two, which hold
-// every vertex moving in a straight line meanwhile: linear bounds per node, as
-// Embree's motion-blur BVHs keep them. Far tighter than the union of both
-// boxes when things move by more than their size.
+// A moving scene's node boxes over the shutter: WideNode holds those at open,
+// WideBoxes how far each plane moves by close (close - open, the difference
+// the interpolation forms, so that a ray's box test does not). A ray at time
+// t tests open + t * motion, which holds every vertex moving in a straight
+// line meanwhile: linear bounds per node, as Embree's motion-blur BVHs keep
+// them. Far tighter than the union of both boxes when things move by more
+// than their size.
 struct alignas(32) WideBoxes {
     float lower[3][kWideWidth];
     float upper[3][kWideWidth];

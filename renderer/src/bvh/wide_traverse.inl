@@ -33,10 +33,10 @@ template <typename PrefetchLeaf>
     }
     const char* p = reinterpret_cast<const char*>(&bvh.nodes[ref.node()]);
     for (size_t line = 0; line < sizeof(bvh::WideNode); line += 64) __builtin_prefetch(p + line);
-    // A moving tree's boxes at the shutter's close, which its box test reads too.
-    if (!bvh.close.empty()) {
-        const char* close = reinterpret_cast<const char*>(&bvh.close[ref.node()]);
-        for (size_t line = 0; line < sizeof(bvh::WideBoxes); line += 64) __builtin_prefetch(close + line);
+    // A moving tree's box motion, which its box test reads too.
+    if (!bvh.motion.empty()) {
+        const char* motion = reinterpret_cast<const char*>(&bvh.motion[ref.node()]);
+        for (size_t line = 0; line < sizeof(bvh::WideBoxes); line += 64) __builtin_prefetch(motion + line);
     }
 }
 
@@ -90,7 +90,7 @@ template <bvh::Query query, bool kMoving, typename LeafTest, typename PrefetchLe
             observer.visit_node(current.node());
             alignas(32) float t_entry[bvh::kWideWidth];
             const uint32_t hits = wide_box_test<kMoving>(node, box_ray, reach, t_entry,
-                                                         kMoving ? &bvh.close[current.node()] : nullptr, ray.time);
+                                                         kMoving ? &bvh.motion[current.node()] : nullptr, ray.time);
             if (hits != 0) {
                 if ((hits & (hits - 1)) == 0) {
                     current = node.child[__builtin_ctz(hits)];

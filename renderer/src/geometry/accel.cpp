@@ -63,7 +63,7 @@ Bounds3 root_bounds(const bvh::WideBvh& tree, bool at_close) {
     if (tree.empty()) return b;
     for (uint32_t i = 0; i < bvh::kWideWidth; ++i) {
         if (tree.nodes[0].child[i].empty()) continue;
-        b.extend(at_close && !tree.close.empty() ? tree.close[0].child_bounds(i) : tree.nodes[0].child_bounds(i));
+        b.extend(at_close && !tree.motion.empty() ? tree.child_bounds_at_close(0, i) : tree.nodes[0].child_bounds(i));
     }
     return b;
 }

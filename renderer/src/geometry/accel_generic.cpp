@@ -24,8 +24,8 @@ namespace rt::generic {
 
 template <bool kMoving>
 [[gnu::always_inline]] inline uint32_t wide_box_test(const bvh::WideNode& node, const bvh::WideBoxRay& ray, float t_max,
-                                                     float* t_entry, const bvh::WideBoxes* close, float time) {
-    return bvh::wide_box_test_sse2<kMoving>(node, ray, t_max, t_entry, close, time);
+                                                     float* t_entry, const bvh::WideBoxes* motion, float time) {
+    return bvh::wide_box_test_sse2<kMoving>(node, ray, t_max, t_entry, motion, time);
 }
 
 [[gnu::always_inline]] inline uint32_t intersect_block_pair(const WatertightRay4& r, const TriangleBlock* const* pair,

@@ -251,7 +251,7 @@ bool intersect_with(const AccelScene& accel, const Ray& ray, Hit& hit, Observer 
         return hit.found();
     }
     Hit nearest;
-    const bool found = accel.top.close.empty() ? closest_through_top<false>(accel, clipped, nearest, observer)
+    const bool found = accel.top.motion.empty() ? closest_through_top<false>(accel, clipped, nearest, observer)
                                                : closest_through_top<true>(accel, clipped, nearest, observer);
     if (found) hit = nearest;
     return hit.found();
@@ -278,7 +278,7 @@ float visibility_with(const AccelScene& accel, const Ray& ray, Observer observer
     bool stopped;
     if (!accel.instanced())
         stopped = any_in(accel.world, ray, visibility, observer);
-    else if (accel.top.close.empty())
+    else if (accel.top.motion.empty())
         stopped = any_through_top<false>(accel, ray, visibility, observer);
     else
         stopped = any_through_top<true>(accel, ray, visibility, observer);

@@ -106,7 +106,7 @@ template <bool kMoving>
     const auto intervals = [&](const bvh::WideNode& node, uint32_t index, float reach, float* t_entry) {
         if constexpr (kMoving) {
             alignas(32) float rows[6 * bvh::kWideWidth];
-            swept_rows(node, data.bvh.close[index], p, rows);
+            swept_rows(node, data.bvh.motion[index], p, rows);
             return packet_box_test(rows, p, reach, t_entry);
         } else {
             return packet_box_test(node.lower[0], p, reach, t_entry);
@@ -202,7 +202,7 @@ inline uint32_t occluded_by(const AccelData& data, bvh::PacketRays& p, const Pac
     alignas(32) float swept[6 * bvh::kWideWidth];
     const auto rows_of = [&](const bvh::WideNode& node, uint32_t index) -> const float* {
         if constexpr (!kMoving) return node.lower[0];
-        swept_rows(node, data.bvh.close[index], p, swept);
+        swept_rows(node, data.bvh.motion[index], p, swept);
         return swept;
     };
     if (load == PacketLoad::intervals)

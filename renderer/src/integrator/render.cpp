@@ -167,36 +167,65 @@ RenderStats Renderer::render_pixels(const TileRect& tile, uint32_t scale, float*
 void Renderer::render_packet(const PacketPixels& block, float* rgb, RenderStats& stats,
                              const std::stop_token& stop) const {
     const uint32_t count = settings_.samples_per_pixel();
+    // When time is sampled, a pixel's samples are spread over the shutter
+    // (its time dimension is stratified) but neighbours' first samples are
+    // not: one sample of each pixel would make a packet whose rays span the
+    // whole shutter, and whose node tests take boxes swept over all of it.
+    // Instead a group of samples is traced at once, its rays sorted by time
+    // into packets: with 4 samples, each packet spans about a quarter of the
+    // shutter. A group is a batch of StoppingRule's, so no pixel stops within
+    // one: each still takes the samples render_pixel takes.
+    const uint32_t group_size = sample_times_ ? StoppingRule::kBatch : 1;
     // A lone sample's mean is the sample itself, bit for bit, as
     // estimate_frame returns it.
     std::array<PixelEstimate, Accelerator::kPacketSize> estimates;
     uint32_t sampling = (1u << block.count) - 1;  // the pixels still taking samples
-    for (uint32_t i = 0; i < count && sampling != 0; ++i) {
+    constexpr uint32_t kPacket = Accelerator::kPacketSize, kMaxRays = kPacket * StoppingRule::kBatch;
+    // Uninitialised: every ray traced is made first, every hit found first.
+    union Rays { Ray at[kMaxRays]; Rays() {} } rays;
+    union Hits { Hit at[kMaxRays]; Hits() {} } hits;
+    for (uint32_t first = 0; first < count && sampling != 0; first += group_size) {
         if (stop.stop_requested()) throw RenderStopped();
-        // estimate_frame's rays and samplers for sample i of each pixel, each
-        // at its sample's time when time is sampled (a lone sample at the
-        // middle of the shutter interval).
-        const uint32_t sample = count == 1 ? 0 : i;
-        std::array<Ray, Accelerator::kPacketSize> rays;
-        std::array<uint32_t, Accelerator::kPacketSize> pixel;
-        uint32_t n = 0;
-        for (uint32_t left = sampling; left != 0; left &= left - 1, ++n) {
-            const uint32_t k = uint32_t(std::countr_zero(left));
-            const uint32_t x = block.x[k], y = block.y[k];
-            pixel[n] = k;
-            const PixelSampler sampler(block.key[k], sample);
-            const vec2 offset = count == 1 ? vec2(0.0f) : film_.offset(sampler);
-            const float time = count == 1 || !sample_times_ ? 0.5f : sampler.time();
-            rays[n] = view_.generate_ray(float(x) + 0.5f + offset.x, float(y) + 0.5f + offset.y, time);
+        const uint32_t group = std::min(group_size, count - first);
+        // Sample first + s of each pixel k still sampling, at its sample's
+        // time when time is sampled (a lone sample at the middle of the
+        // shutter interval), put in order of its stratum of the shutter, one
+        // of `group` (a counting sort): the group's samples of a pixel take
+        // one each. slot[s * kPacket + k] is where its ray goes.
+        std::array<float, kMaxRays> time;
+        std::array<uint8_t, kMaxRays> stratum;
+        std::array<uint16_t, kMaxRays> slot;
+        std::array<uint32_t, StoppingRule::kBatch + 1> starts{};
+        for (uint32_t s = 0; s < group; ++s)
+            for (uint32_t left = sampling; left != 0; left &= left - 1) {
+                const uint32_t r = s * kPacket + uint32_t(std::countr_zero(left));
+                const PixelSampler sampler(block.key[r % kPacket], count == 1 ? 0 : first + s);
+                time[r] = count == 1 || !sample_times_ ? 0.5f : sampler.time();
+                stratum[r] = uint8_t(std::min(uint32_t(time[r] * float(group)), group - 1));
+                ++starts[stratum[r] + 1];
+            }
+        for (uint32_t b = 1; b <= group; ++b) starts[b] += starts[b - 1];
+        const uint32_t n = starts[group];
+        for (uint32_t s = 0; s < group; ++s)
+            for (uint32_t left = sampling; left != 0; left &= left - 1) {
+                const uint32_t k = uint32_t(std::countr_zero(left)), r = s * kPacket + k;
+                const PixelSampler sampler(block.key[k], count == 1 ? 0 : first + s);
+                const vec2 offset = count == 1 ? vec2(0.0f) : film_.offset(sampler);
+                slot[r] = uint16_t(starts[stratum[r]]++);
+                rays.at[slot[r]] = view_.generate_ray(float(block.x[k]) + 0.5f + offset.x,
+                                                      float(block.y[k]) + 0.5f + offset.y, time[r]);
+            }
+        for (uint32_t at = 0; at < n; at += kPacket) {
+            const uint32_t size = std::min(n - at, kPacket);
+            packets_->intersect(std::span(rays.at + at, size), std::span(hits.at + at, size));
         }
-        std::array<Hit, Accelerator::kPacketSize> hits;
-        packets_->intersect(std::span(rays.data(), n), std::span(hits.data(), n));
-        for (uint32_t r = 0; r < n; ++r) {
-            const uint32_t k = pixel[r];
-            const PixelSampler sampler(block.key[k], sample);
-            estimates[k].add(integrator_.radiance(rays[r], hits[r], sampler, stats.rays, cone_));
-            if (stopping_.done(estimates[k])) sampling &= ~(1u << k);
-        }
+        for (uint32_t s = 0; s < group; ++s)
+            for (uint32_t left = sampling; left != 0; left &= left - 1) {
+                const uint32_t k = uint32_t(std::countr_zero(left)), r = slot[s * kPacket + k];
+                const PixelSampler sampler(block.key[k], count == 1 ? 0 : first + s);
+                estimates[k].add(integrator_.radiance(rays.at[r], hits.at[r], sampler, stats.rays, cone_));
+                if (stopping_.done(estimates[k])) sampling &= ~(1u << k);
+            }
     }
     for (uint32_t k = 0; k < block.count; ++k) {
         const vec3 c = estimates[k].mean();
