@@ -8,6 +8,7 @@
 #include "geometry/accel.h"
 #include "geometry/shadow_terminator.h"
 #include "integrator/render.h"
+#include "instancing_scenes.h"
 #include "test_meshes.h"
 #include "test_scenes.h"
 
@@ -116,6 +117,34 @@ TEST(ShadowTerminator, OffsetOnlyLiftsConvexFacets) {
                                               scene.positions[tri.z] - scene.positions[tri.x]));
     for (int k = 0; k < 3; ++k) scene.normals[tri[k]] = ng;
     EXPECT_LT(glm::length(shadow_terminator_origin(scene, hit, s, 1.0f).p - s.p), 1e-6f);
+}
+
+// The integrator hands shadow_terminator_origin the corners surface_at found
+// (an instance's cost a transform to make): the origin is the one they give
+// when found again, for instances moving and still and world-space triangles.
+TEST(ShadowTerminator, CornersFromSurfaceAtGiveTheSameOrigin) {
+    const Scene scene = moving_instanced_soup(40, 7, 0.5f);
+    const Accelerator accel(scene, 2);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+    uint32_t instanced = 0, world = 0;
+    for (int i = 0; i < 4000; ++i) {
+        Ray ray{vec3(0.0f, 0.0f, 30.0f), glm::normalize(vec3(0.4f * unit(rng), 0.4f * unit(rng), -1.0f))};
+        ray.time = 0.5f * (unit(rng) + 1.0f);
+        Hit hit;
+        if (!accel.intersect(ray, hit) || hit.primitive >= scene.triangles.size()) continue;
+        (hit.instance == kNoInstance ? world : instanced) += 1;
+        TriangleCorners corners;
+        const SurfaceHit s = surface_at(scene, ray, hit, &corners);
+        for (float side : {1.0f, -1.0f}) {
+            const ShadowOrigin given = shadow_terminator_origin(scene, hit, s, side, &corners);
+            const ShadowOrigin found = shadow_terminator_origin(scene, hit, s, side);
+            ASSERT_EQ(given.p, found.p);
+            ASSERT_EQ(given.p_error, found.p_error);
+        }
+    }
+    EXPECT_GT(instanced, 500u);
+    EXPECT_GT(world, 50u);
 }
 
 }  // namespace

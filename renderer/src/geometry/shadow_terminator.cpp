@@ -6,9 +6,10 @@
 
 namespace rt {
 
-ShadowOrigin shadow_terminator_origin(const Scene& scene, const Hit& hit, const SurfaceHit& s, float side) {
+ShadowOrigin shadow_terminator_origin(const Scene& scene, const Hit& hit, const SurfaceHit& s, float side,
+                                      const TriangleCorners* corners) {
     if (hit.primitive >= scene.triangles.size()) return {s.p, s.p_error};
-    const TriangleCorners c = triangle_corners(scene, hit, s.time);
+    const TriangleCorners c = corners ? *corners : triangle_corners(scene, hit, s.time);
     const float b[3] = {1.0f - hit.u - hit.v, hit.u, hit.v};
     vec3 offset(0.0f);
     for (int i = 0; i < 3; ++i) {

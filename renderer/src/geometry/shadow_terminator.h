@@ -19,11 +19,13 @@ namespace rt {
 // The shadow rays' start for the hit: p' with its error bound, the normals
 // taken on the side `side` (+1: the side they point to, -1: the other one, as
 // when the viewer looks at the back). Spheres and flat-shaded triangles give
-// the hit point itself.
+// the hit point itself. `corners`: the triangle's, as surface_at found them
+// (else found again).
 struct ShadowOrigin {
     vec3 p;
     vec3 p_error;
 };
-ShadowOrigin shadow_terminator_origin(const Scene& scene, const Hit& hit, const SurfaceHit& s, float side);
+ShadowOrigin shadow_terminator_origin(const Scene& scene, const Hit& hit, const SurfaceHit& s, float side,
+                                      const TriangleCorners* corners = nullptr);
 
 }  // namespace rt

@@ -28,7 +28,7 @@ void set_area_ratios(const Scene& scene, uvec3 tri, double world_area, SurfaceHi
 
 }  // namespace
 
-SurfaceHit surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
+SurfaceHit surface_at(const Scene& scene, const Ray& ray, const Hit& hit, TriangleCorners* corners) {
     SurfaceHit s;
     s.time = ray.time;
     const size_t triangle_count = scene.triangles.size();
@@ -41,6 +41,7 @@ SurfaceHit surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
     }
 
     const TriangleCorners c = triangle_corners(scene, hit, ray.time);
+    if (corners) *corners = c;
     const uvec3 tri = c.vertices;
     const vec3 p0 = c.p[0], p1 = c.p[1], p2 = c.p[2];
     const float b0 = 1.0f - hit.u - hit.v;

@@ -4,6 +4,7 @@
 
 #include "util/ray.h"
 #include "geometry/scene.h"
+#include "geometry/triangle_corners.h"
 
 namespace rt {
 
@@ -33,8 +34,10 @@ struct SurfaceHit {
 // The point is interpolated from the triangle's vertices with the barycentrics
 // rather than taken as origin + t * direction: its error then depends only on
 // the vertices' magnitude, not on how far the ray travelled. In a moving scene
-// the vertices and normals are those at ray.time.
-SurfaceHit surface_at(const Scene& scene, const Ray& ray, const Hit& hit);
+// the vertices and normals are those at ray.time. `corners`, when given, gets
+// the triangle's corners as found (a triangle hit only), for
+// shadow_terminator_origin: an instance's take a transform to make.
+SurfaceHit surface_at(const Scene& scene, const Ray& ray, const Hit& hit, TriangleCorners* corners = nullptr);
 
 // Orients both normals towards the side the ray came from (the 2020 report's
 // section 2.1), flipping them together so they stay consistent; a shading

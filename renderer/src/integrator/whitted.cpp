@@ -180,7 +180,8 @@ vec3 WhittedIntegrator::trace(const Ray& ray, RayCone cone, RayKind kind, uint32
     }
     if (!hit.found()) return background_(ray.direction);
 
-    SurfaceHit s = surface_at(scene_, ray, hit);
+    TriangleCorners corners;
+    SurfaceHit s = surface_at(scene_, ray, hit, &corners);
     s.cone_width = cone.width_at(hit.t);
     s.cone_spread = cone.spread;
     s.cos_incidence = std::max(std::abs(glm::dot(ray.direction, s.ng)), 1e-6f);
@@ -201,7 +202,7 @@ vec3 WhittedIntegrator::trace(const Ray& ray, RayCone cone, RayKind kind, uint32
     // Emission is the surface's own and shows through any layer. Shadow rays
     // start where the vertex normals put the surface (shadow_terminator.h).
     SurfaceHit lit = s;
-    const ShadowOrigin origin = shadow_terminator_origin(scene_, hit, s, entering ? 1.0f : -1.0f);
+    const ShadowOrigin origin = shadow_terminator_origin(scene_, hit, s, entering ? 1.0f : -1.0f, &corners);
     lit.p = origin.p;
     lit.p_error = origin.p_error;
     vec3 color = sm.emission +
