@@ -24,7 +24,7 @@ def submit(client, scene_id, width=96, height=72, **extra):
 
 
 def test_a_minimal_job_renders_and_its_stream_equals_image_png(client, cornell_id):
-    response = submit(client, cornell_id, 300, 240)
+    response = submit(client, cornell_id, 300, 240, interactive=True)
     job = response.json()
     assert response.headers["location"] == f"/api/jobs/{job['id']}"
     assert job["state"] in ("QUEUED", "RUNNING")
@@ -36,7 +36,7 @@ def test_a_minimal_job_renders_and_its_stream_equals_image_png(client, cornell_i
     assert end.WhichOneof("message") == "end" and end.end.state == job_pb2.DONE
     done = client.get(f"/api/jobs/{job['id']}").json()
     assert done["state"] == "DONE" and done["progress"] == 1 and done["tiles_done"] == done["tiles_total"]
-    assert done["passes"] == 2, "300x240 gets a preview pass"
+    assert done["passes"] == 2, "an interactive 300x240 job gets a preview pass"
     assert int(done["rays"]) > 300 * 240 and done["finished_at"] >= done["started_at"] > 0
     # Every tile exactly once per pass, covering the image.
     for pass_index in range(done["passes"]):
@@ -234,11 +234,12 @@ def test_adaptive_jobs_report_their_mean_samples_per_pixel(client, cornell_id):
 
 
 def test_pixels_the_preview_traced_are_not_traced_again(client, cornell_id, scenes_dir):
-    """A 320x240 job has a preview pass; the full-resolution tiles take its
-    pixels: the job traces exactly the rays of one render of the image, and
-    its image (colour and auxiliary layers) is that render's."""
+    """An interactive 320x240 job has a preview pass; the full-resolution
+    tiles take its pixels: the job traces exactly the rays of one render of
+    the image, and its image (colour and auxiliary layers) is that render's."""
     settings = {"width": 320, "height": 240, "samples_per_pixel": 4, "adaptive_threshold": 0.05}
-    job = wait_for(client, submit(client, cornell_id, settings=settings, outputs=["DEPTH", "BVH_COST"]).json()["id"])
+    job = wait_for(client, submit(client, cornell_id, settings=settings, outputs=["DEPTH", "BVH_COST"],
+                                  interactive=True).json()["id"])
     assert job["state"] == "DONE" and job["passes"] == 2
     scene = rtcore.Scene.load(str(scenes_dir / "cornell.obj"))
     request = job_pb2.JobRequest()

@@ -5,16 +5,16 @@ import pytest
 
 from rt import job_pb2, render_pb2, scene_pb2
 
-from app.services.tile_plan import (MAX_TILES, PREVIEW_MIN_PIXELS, PREVIEW_SCALE, TILE_RAYS, TILE_SIZES,
-                                     TILES_PER_THREAD, plan_passes, rays_per_pixel)
+from app.services.tile_plan import (MAX_TILES, PREVIEW_MIN_PIXELS, PREVIEW_MIN_RAYS_PER_THREAD, PREVIEW_SCALE,
+                                     TILE_RAYS, TILE_SIZES, TILES_PER_THREAD, plan_passes, rays_per_pixel)
 
 
 @pytest.mark.parametrize("width, height, threads", [(1024, 1024, 2), (1600, 1200, 8), (300, 240, 2),
                                                     (1001, 777, 3), (4096, 2048, 64)])
 def test_tiles_cover_the_image_once_and_reuse_their_previews_pixels(width, height, threads):
-    passes = plan_passes(width, height, threads, interactive=False)
+    passes = plan_passes(width, height, threads, interactive=True)
     *previews, full = passes
-    assert len(previews) == 1, "a large image gets one preview pass"
+    assert len(previews) == 1, "a large image someone waits for gets one preview pass"
     covered = [[0] * width for _ in range(height)]
     for tile in full:
         p = tile.preview
@@ -31,14 +31,28 @@ def test_tiles_cover_the_image_once_and_reuse_their_previews_pixels(width, heigh
 
 
 def test_small_images_have_no_preview_and_trace_every_pixel_in_their_tiles():
-    (full,) = plan_passes(200, 150, 2, interactive=False)
+    (full,) = plan_passes(200, 150, 2, interactive=True)
     assert 200 * 150 < PREVIEW_MIN_PIXELS
     assert all(t.preview is None for t in full)
     assert sum(t.pixels for t in full) == 200 * 150
 
 
+@pytest.mark.parametrize("threads", [2, 64])
+def test_a_batch_job_gets_a_preview_only_when_it_takes_long(threads):
+    """A preview's pixels cost about twice a full tile's and it is a task
+    more: a batch job nobody waits for skips it unless it runs long."""
+    pixels = 1024 * 1024
+    short = PREVIEW_MIN_RAYS_PER_THREAD * threads / pixels  # rays per pixel at the threshold
+    assert len(plan_passes(1024, 1024, threads, interactive=False, pixel_rays=short)) == 1
+    assert len(plan_passes(1024, 1024, threads, interactive=False, pixel_rays=short * 1.01)) == 2
+    assert len(plan_passes(1024, 1024, threads, interactive=True, pixel_rays=1)) == 2
+    # The service benchmark's 1024 x 1024 dragon at one sample (two lights), on 2 threads, has none.
+    assert len(plan_passes(1024, 1024, 2, interactive=False, pixel_rays=3)) == 1
+
+
 def test_an_interactive_job_outranks_a_batch_job_and_previews_outrank_full_tiles():
-    batch = plan_passes(1024, 768, 2, interactive=False)
+    batch = plan_passes(1024, 768, 2, interactive=False, pixel_rays=64)
+    assert len(batch) == 2, "a long batch job has a preview"
     interactive = plan_passes(1024, 768, 2, interactive=True)
     assert min(t.priority for p in interactive for t in p) > max(t.priority for p in batch for t in p)
     assert min(t.priority for t in batch[0]) > max(t.priority for t in batch[1])
