@@ -38,8 +38,8 @@ struct WideBvh {
     size_t node_bytes() const { return nodes.size() * sizeof(WideNode) + motion.size() * sizeof(WideBoxes); }
     // Child i of `node` at shutter close, as the box test takes it at time 1.
     Bounds3 child_bounds_at_close(uint32_t node, uint32_t i) const {
-        const Bounds3 open = nodes[node].child_bounds(i);
-        return {open.min + motion[node].child_bounds(i).min, open.max + motion[node].child_bounds(i).max};
+        const Bounds3 open = nodes[node].child_bounds(i), by = motion[node].child_bounds(i);
+        return {open.min + by.min, open.max + by.max};
     }
     // Child i of `node` over the whole shutter interval.
     Bounds3 child_bounds(uint32_t node, uint32_t i) const {

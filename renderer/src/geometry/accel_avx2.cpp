@@ -5,19 +5,7 @@
 // instruction set, so the linker never merges an AVX2 copy of a shared inline
 // function into code that runs on any x86-64. simd_path() calls these only on
 // CPUs that have AVX2.
-#include <immintrin.h>
-
-#include <new>
-#include <type_traits>
-
-#include "bvh/packet_rays.h"
-#include "bvh/traverse.h"
-#include "bvh/wide_box_test.h"
-#include "geometry/accel_data.h"
-#include "geometry/sphere.h"
-#include "geometry/surface_material.h"
-#include "geometry/triangle_block_test.h"
-#include "util/cpu_features.h"
+#include "geometry/accel_kernel_headers.h"
 
 #pragma GCC push_options
 #pragma GCC target("avx2,bmi,bmi2,popcnt")

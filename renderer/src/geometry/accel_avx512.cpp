@@ -4,19 +4,7 @@
 // a node still fill one YMM register. As in accel_avx2.cpp, only the
 // functions after the target pragma are compiled for AVX-512, all in
 // rt::avx512, and simd_path() calls them only on CPUs that have it.
-#include <immintrin.h>
-
-#include <new>
-#include <type_traits>
-
-#include "bvh/packet_rays.h"
-#include "bvh/traverse.h"
-#include "bvh/wide_box_test.h"
-#include "geometry/accel_data.h"
-#include "geometry/sphere.h"
-#include "geometry/surface_material.h"
-#include "geometry/triangle_block_test.h"
-#include "util/cpu_features.h"
+#include "geometry/accel_kernel_headers.h"
 
 #pragma GCC push_options
 #pragma GCC target("avx512f,avx512vl,avx512bw,avx512dq,avx2,bmi,bmi2,popcnt")

@@ -1,19 +1,5 @@
 // The ray query kernels for any x86-64: SSE2 box and triangle tests.
-// (immintrin.h: packet_lanes.inl names an AVX-512 intrinsic that only the
-// AVX-512 kernels instantiate.)
-#include <immintrin.h>
-
-#include <new>
-#include <type_traits>
-
-#include "bvh/packet_rays.h"
-#include "bvh/traverse.h"
-#include "bvh/wide_box_test.h"
-#include "geometry/accel_data.h"
-#include "geometry/sphere.h"
-#include "geometry/surface_material.h"
-#include "geometry/triangle_block_test.h"
-#include "util/cpu_features.h"
+#include "geometry/accel_kernel_headers.h"
 
 // The packet kernels' 32-byte vectors (packet_lanes.inl) live only in
 // inlined functions, so GCC's note that SSE2 code passes them otherwise than
