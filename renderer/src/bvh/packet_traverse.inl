@@ -73,10 +73,12 @@
                 lower = node.lower[axis][slot] + time * motion->lower[axis][slot];
                 upper = node.upper[axis][slot] + time * motion->upper[axis][slot];
             }
-            const RayLanes t_lower = (lower - origin) * inv;
-            const RayLanes t_upper = (upper - origin) * inv;
-            const RayLanes t_near = lanes_min(t_lower, t_upper);
-            const RayLanes t_far = lanes_max(t_lower, t_upper) * bvh::kExitScale;
+            // The exit plane's distance as WideBoxRay::inv_exit gives it:
+            // scaling keeps the order of the two, so the larger is the exit.
+            const RayLanes inv_exit = inv * bvh::kExitScale;
+            const RayLanes to_lower = lower - origin, to_upper = upper - origin;
+            const RayLanes t_near = lanes_min(to_lower * inv, to_upper * inv);
+            const RayLanes t_far = lanes_max(to_lower * inv_exit, to_upper * inv_exit);
             enter = t_near > enter ? t_near : enter;
             exit = t_far < exit ? t_far : exit;
         }

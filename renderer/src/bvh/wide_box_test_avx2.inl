@@ -26,8 +26,7 @@ template <bool kMoving>
         const __m256 near_plane = plane_row<kMoving>(rows, motion_rows, ray.near_row[axis], time8);
         const __m256 far_plane = plane_row<kMoving>(rows, motion_rows, ray.far_row[axis], time8);
         const __m256 t_near = _mm256_mul_ps(_mm256_sub_ps(near_plane, origin), inv);
-        const __m256 t_far = _mm256_mul_ps(_mm256_mul_ps(_mm256_sub_ps(far_plane, origin), inv),
-                                           _mm256_set1_ps(bvh::kExitScale));
+        const __m256 t_far = _mm256_mul_ps(_mm256_sub_ps(far_plane, origin), _mm256_set1_ps(ray.inv_exit[axis]));
         enter = _mm256_max_ps(t_near, enter);
         exit = _mm256_min_ps(t_far, exit);
     }
