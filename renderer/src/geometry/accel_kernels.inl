@@ -125,17 +125,38 @@ template <bool kMoving, bool kFiltered, typename Observer>
     return false;
 }
 
+// The ray's shear constants, made when the first leaf needs them: an
+// incoherent ray often leaves the tree having entered no leaf, and the
+// constants' axis choice branches on the direction, which such rays make
+// unpredictable.
+class LazyShear {
+  public:
+    explicit LazyShear(const Ray& ray) : ray_(ray) {}
+    [[gnu::always_inline]] const WatertightRay4& get() {
+        if (!made_) {
+            watertight_ = WatertightRay4(WatertightRay{ray_});
+            made_ = true;
+        }
+        return watertight_;
+    }
+
+  private:
+    const Ray& ray_;
+    bool made_ = false;
+    WatertightRay4 watertight_;
+};
+
 // The nearest triangle of one tree with t < ray.t_max, into `hit` when found.
 // flatten: the traversal, the leaf test and the triangle test become one
 // function, so the per-ray constants stay in registers.
 template <bool kMoving, bool kFiltered, typename Observer>
 [[gnu::flatten]] bool closest_triangle(const AccelData& data, const Ray& ray, Hit& hit, Observer observer) {
-    const WatertightRay4 watertight(WatertightRay{ray});
+    LazyShear shear(ray);
     Hit nearest;
     const bool found = traverse_wide<bvh::Query::closest_hit, kMoving>(
         data.bvh, ray,
         [&](uint32_t first_block, uint32_t block_count, float& t_max) {
-            return closest_in_leaf<kMoving, kFiltered>(data, watertight, first_block, block_count, ray.time, t_max,
+            return closest_in_leaf<kMoving, kFiltered>(data, shear.get(), first_block, block_count, ray.time, t_max,
                                                        nearest, observer);
         },
         [&](bvh::ChildRef leaf) { prefetch_blocks<kMoving>(data, leaf); }, observer);
@@ -147,11 +168,11 @@ template <bool kMoving, bool kFiltered, typename Observer>
 // `visibility` by the BLEND surfaces it passed.
 template <bool kMoving, bool kFiltered, typename Observer>
 [[gnu::flatten]] bool any_triangle(const AccelData& data, const Ray& ray, float& visibility, Observer observer) {
-    const WatertightRay4 watertight(WatertightRay{ray});
+    LazyShear shear(ray);
     return traverse_wide<bvh::Query::any_hit, kMoving>(
         data.bvh, ray,
         [&](uint32_t first_block, uint32_t block_count, float& t_max) {
-            return stopped_in_leaf<kMoving, kFiltered>(data, watertight, first_block, block_count, ray.time, t_max,
+            return stopped_in_leaf<kMoving, kFiltered>(data, shear.get(), first_block, block_count, ray.time, t_max,
                                                        visibility, observer);
         },
         [&](bvh::ChildRef leaf) { prefetch_blocks<kMoving>(data, leaf); }, observer);

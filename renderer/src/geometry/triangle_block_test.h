@@ -21,6 +21,7 @@ struct WatertightRay4 {
     __m128 ox, oy, oz;  // origin along kx, ky, kz
     __m128 sx, sy, sz;
 
+    WatertightRay4() = default;
     explicit WatertightRay4(const WatertightRay& r)
         : scalar(r),
           ox(_mm_set1_ps(r.origin[r.kx])),
