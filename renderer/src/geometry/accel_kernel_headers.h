@@ -6,10 +6,18 @@
 // instantiate.)
 #pragma once
 
+// The kernels make a ray's shear constants lazily (accel_kernels.inl,
+// LazyShear), behind a flag GCC does not follow through the inlined
+// traversal: it warns of reads that the flag rules out (GCC bug 80635, the
+// same false positive as for std::optional). The tests' brute-force
+// comparisons would catch a real one.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
 #include <immintrin.h>
 
 #include <new>
 #include <type_traits>
+#include <utility>
 
 #include "bvh/packet_rays.h"
 #include "bvh/traverse.h"
