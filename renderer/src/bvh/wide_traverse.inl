@@ -47,13 +47,25 @@ template <typename PrefetchLeaf>
                                                         uint32_t& stack_size, PrefetchLeaf& prefetch_leaf) {
     // Entry distances are >= +0, so their bit patterns sort as the distances do;
     // the slot in the low bits breaks ties.
+    const auto key_of = [&](uint32_t slot) {
+        uint32_t bits;
+        __builtin_memcpy(&bits, &t_entry[slot], sizeof bits);
+        return uint64_t(bits) << 32 | slot;
+    };
+    // Two children, the most common case after one: one comparison, as
+    // Embree's BVH8 traversal orders a pair, instead of the sorting loop.
+    if (const uint32_t rest = hits & (hits - 1); (rest & (rest - 1)) == 0) {
+        const uint32_t a = uint32_t(__builtin_ctz(hits)), b = uint32_t(__builtin_ctz(rest));
+        const bool a_nearer = key_of(a) < key_of(b);
+        const uint32_t near = a_nearer ? a : b, far = a_nearer ? b : a;
+        prefetch_child(bvh, node.child[far], prefetch_leaf);
+        stack[stack_size++] = {node.child[far].bits, t_entry[far]};
+        return node.child[near];
+    }
     uint64_t keys[bvh::kWideWidth];
     uint32_t count = 0;
     for (; hits != 0; hits &= hits - 1) {
-        const uint32_t slot = uint32_t(__builtin_ctz(hits));
-        uint32_t bits;
-        __builtin_memcpy(&bits, &t_entry[slot], sizeof bits);
-        const uint64_t key = uint64_t(bits) << 32 | slot;
+        const uint64_t key = key_of(uint32_t(__builtin_ctz(hits)));
         // Insertion into descending order: the nearest ends up last.
         uint32_t i = count++;
         for (; i > 0 && keys[i - 1] < key; --i) keys[i] = keys[i - 1];
