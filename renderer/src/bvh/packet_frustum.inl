@@ -109,7 +109,9 @@ inline bool make_frustum(PacketFrustum& f, const bvh::PacketRays& p, float scale
         }
         // The tips' spread is a slope too, seen from the nearest base.
         if (lanes_bits(along * max_slope > radius) != kRayLaneBits) return false;
-        const RayLanes su = along_u / along, sv = along_v / along;
+        // One division for both slopes; kSlopeMargin covers the extra rounding.
+        const RayLanes inv_along = lanes_splat<RayLanes>(1.0f) / along;
+        const RayLanes su = along_u * inv_along, sv = along_v * inv_along;
         su_low = lanes_min(su_low, su), su_high = lanes_max(su_high, su);
         sv_low = lanes_min(sv_low, sv), sv_high = lanes_max(sv_high, sv);
         far_along = lanes_max(far_along, along);
@@ -123,8 +125,13 @@ inline bool make_frustum(PacketFrustum& f, const bvh::PacketRays& p, float scale
     su_min -= kSlopeMargin, sv_min -= kSlopeMargin, su_max += kSlopeMargin, sv_max += kSlopeMargin;
     const vec3 normals[PacketFrustum::kPlanes] = {u - su_min * c, su_max * c - u, v - sv_min * c,
                                                   sv_max * c - v, c, -c};
-    float thresholds[PacketFrustum::kPlanes];  // normal . (x - apex) >= threshold
-    for (int j = 0; j < PacketFrustum::kPlanes; ++j) thresholds[j] = -radius * glm::length(normals[j]);
+    // normal . (x - apex) >= threshold. A side normal is a unit vector minus
+    // a slope s times one orthogonal to it, so its length is sqrt(1 + s^2),
+    // at most 1 + s^2 / 2; 1e-4 more covers the basis' rounding.
+    const float slopes[4] = {su_min, su_max, sv_min, sv_max};
+    float thresholds[PacketFrustum::kPlanes];
+    for (int j = 0; j < 4; ++j) thresholds[j] = -radius * (1.0001f + 0.5f * slopes[j] * slopes[j]);
+    thresholds[4] = thresholds[5] = -radius * 1.0001f;
     // The far side: nothing of a segment lies beyond its base.
     thresholds[5] -= far;
     const float magnitude = scale + max_component(glm::abs(apex));
