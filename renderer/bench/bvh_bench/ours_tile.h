@@ -10,16 +10,21 @@
 
 namespace rt::bench {
 
-// The packet's active rays, in lane order.
+// The packet's active rays, in lane order. Left uninitialised until written,
+// as the renderer's tile keeps its rays and hits (integrator/render.cpp):
+// Ray's and Hit's member defaults would be stored only to be overwritten.
 struct GatheredPacket {
-    std::array<Ray, kPacketWidth> rays;
+    union Rays {
+        Ray at[kPacketWidth];
+        Rays() {}
+    } rays;
     std::array<uint32_t, kPacketWidth> index;
     uint32_t count = 0;
 
     GatheredPacket(const Ray* all, const Packet& packet) {
         for (uint32_t ray : packet)
             if (ray != kInactiveLane) {
-                rays[count] = all[ray];
+                rays.at[count] = all[ray];
                 index[count++] = ray;
             }
     }
@@ -28,16 +33,18 @@ struct GatheredPacket {
 // The packet's rays (indices into `rays`), answers written at the same indices.
 inline void trace_tile_ours(const Accelerator& accel, const Ray* rays, const Packet& packet, Hit* hits) {
     const GatheredPacket gathered(rays, packet);
-    std::array<Hit, kPacketWidth> found;
-    accel.intersect(std::span(gathered.rays.data(), gathered.count), std::span(found.data(), gathered.count));
-    for (uint32_t i = 0; i < gathered.count; ++i) hits[gathered.index[i]] = found[i];
+    union Hits {
+        Hit at[kPacketWidth];
+        Hits() {}
+    } found;
+    accel.intersect(std::span(gathered.rays.at, gathered.count), std::span(found.at, gathered.count));
+    for (uint32_t i = 0; i < gathered.count; ++i) hits[gathered.index[i]] = found.at[i];
 }
 
 inline void occluded_tile_ours(const Accelerator& accel, const Ray* rays, const Packet& packet, char* blocked) {
     const GatheredPacket gathered(rays, packet);
     std::array<float, kPacketWidth> visibility;
-    accel.visibility(std::span(gathered.rays.data(), gathered.count),
-                     std::span(visibility.data(), gathered.count));
+    accel.visibility(std::span(gathered.rays.at, gathered.count), std::span(visibility.data(), gathered.count));
     for (uint32_t i = 0; i < gathered.count; ++i) blocked[gathered.index[i]] = visibility[i] == 0.0f;
 }
 
