@@ -104,21 +104,18 @@ template <typename Lanes>
 // A vector's lower and upper halves, taken in registers: copied out through
 // memory (memcpy of the halves), each reduction step stored a whole
 // register and reloaded half of it (camera packets ran 2-3% slower).
-template <typename Lanes, size_t... I>
+template <size_t kFirst, typename Lanes, size_t... I>
 [[gnu::always_inline]] inline auto lanes_half(Lanes v, std::index_sequence<I...>) {
-    return __builtin_shufflevector(v, v, I...);
+    return __builtin_shufflevector(v, v, (kFirst + I)...);
 }
 template <typename Lanes>
 [[gnu::always_inline]] inline auto lanes_lower_half(Lanes v) {
-    return lanes_half(v, std::make_index_sequence<sizeof(Lanes) / sizeof(float) / 2>{});
-}
-template <typename Lanes, size_t... I>
-[[gnu::always_inline]] inline auto lanes_upper_half(Lanes v, std::index_sequence<I...>) {
-    return __builtin_shufflevector(v, v, (I + sizeof...(I))...);
+    return lanes_half<0>(v, std::make_index_sequence<sizeof(Lanes) / sizeof(float) / 2>{});
 }
 template <typename Lanes>
 [[gnu::always_inline]] inline auto lanes_upper_half(Lanes v) {
-    return lanes_upper_half(v, std::make_index_sequence<sizeof(Lanes) / sizeof(float) / 2>{});
+    constexpr size_t kHalf = sizeof(Lanes) / sizeof(float) / 2;
+    return lanes_half<kHalf>(v, std::make_index_sequence<kHalf>{});
 }
 
 // The smallest, the largest lane and their sum: halves folded onto each other, so
