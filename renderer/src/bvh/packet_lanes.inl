@@ -1,5 +1,5 @@
 // Float lanes for the packet kernels (packet_setup.inl, packet_traverse.inl,
-// packet_frustum.inl, geometry/triangle_rays_test.inl), compiled once per SIMD
+// packet_masked_traverse.inl, geometry/triangle_rays_test.inl), compiled once per SIMD
 // path inside its ISA namespace: GCC vector extensions, so one text serves
 // every path.
 //
@@ -62,6 +62,26 @@ template <typename Mask>
         bits |= uint32_t(_mm_movemask_ps(part)) << (4 * quarter);
     }
     return bits;
+}
+
+// Bit i: enter[i] <= exit[i] and enter[i] < limit[i], a box test's verdict.
+// With AVX-512 the two comparisons go straight into mask registers: through
+// lanes_bits, GCC turned the first mask into a vector and back.
+template <typename Lanes>
+[[gnu::always_inline]] inline uint32_t lanes_entered(Lanes enter, Lanes exit, Lanes limit) {
+    if constexpr (kSimdPath == SimdPath::avx512 && sizeof(Lanes) == 64) {
+        __m512 e, x, l;
+        __builtin_memcpy(&e, &enter, sizeof e), __builtin_memcpy(&x, &exit, sizeof x);
+        __builtin_memcpy(&l, &limit, sizeof l);
+        return uint32_t(_mm512_mask_cmp_ps_mask(_mm512_cmp_ps_mask(e, x, _CMP_LE_OQ), e, l, _CMP_LT_OQ));
+    } else if constexpr (kSimdPath == SimdPath::avx512 && sizeof(Lanes) == 32) {
+        __m256 e, x, l;
+        __builtin_memcpy(&e, &enter, sizeof e), __builtin_memcpy(&x, &exit, sizeof x);
+        __builtin_memcpy(&l, &limit, sizeof l);
+        return uint32_t(_mm256_mask_cmp_ps_mask(_mm256_cmp_ps_mask(e, x, _CMP_LE_OQ), e, l, _CMP_LT_OQ));
+    } else {
+        return lanes_bits((enter <= exit) & (enter < limit));
+    }
 }
 
 // Lane i all ones where bit i of `bits` is set: lanes_bits' inverse.

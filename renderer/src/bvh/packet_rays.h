@@ -27,8 +27,6 @@ struct PacketRays {
     static constexpr float kMaxSpread = 2.0f;
 
     uint32_t count = 0;
-    // Every ray leaves from the same point.
-    bool shared_origin = false;
     // Each ray, and its WideBoxRay constants, structure of arrays; lanes
     // past `count` copy ray 0, so that every lane computes on numbers.
     alignas(64) float origin[3][kPacketSize];

@@ -10,7 +10,8 @@ enum class PacketLoad {
     // Each ray's constants are set, but the intervals would not bound the
     // rays, or not tightly: they share neither their origin nor their
     // direction, differ in some direction sign, or spread their reciprocals
-    // past kMaxSpread. A frustum may still bound them (packet_frustum.inl).
+    // past kMaxSpread. Shadow rays still take their packet traversal
+    // (packet_masked_traverse.inl), which needs no such bound.
     rays,
     // The interval test bounds them too.
     intervals,
@@ -20,10 +21,12 @@ enum class PacketLoad {
 static_assert(sizeof(Ray) == 8 * sizeof(float) && offsetof(Ray, direction) == 3 * sizeof(float) &&
               offsetof(Ray, t_max) == 6 * sizeof(float) && offsetof(Ray, time) == 7 * sizeof(float));
 
-// Rays `first` to first + 7 (those past n: ray 0) into the packet's columns,
-// by the 8 x 8 transpose of unpacks, shuffles and 128-bit swaps; element by
-// element, the copy took a tenth of a camera packet's time.
-[[gnu::always_inline]] inline void load_eight_rays(bvh::PacketRays& p, const Ray* rays, uint32_t n, uint32_t first) {
+// Rays `first` to first + 7 (those past n: ray 0) as eight columns (origin
+// x, y, z, direction x, y, z, t_max, time) by the 8 x 8 transpose of
+// unpacks, shuffles and 128-bit swaps; element by element, the copy took a
+// tenth of a camera packet's time.
+[[gnu::always_inline]] inline void transpose_eight_rays(const Ray* rays, uint32_t n, uint32_t first,
+                                                        NodeLanes column[8]) {
     typedef int32_t Pick __attribute__((vector_size(32)));
     NodeLanes r[8], t[8], u[8];
     for (uint32_t i = 0; i < 8; ++i) __builtin_memcpy(&r[i], &rays[first + i < n ? first + i : 0], sizeof r[i]);
@@ -37,23 +40,46 @@ static_assert(sizeof(Ray) == 8 * sizeof(float) && offsetof(Ray, direction) == 3 
             u[i + 2 * k + 1] = __builtin_shuffle(t[i + k], t[i + k + 2], Pick{2, 3, 10, 11, 6, 7, 14, 15});
         }
     // u[j] (j < 4) holds components j and j + 4 of rays 0-3 and of 4-7 in u[j + 4].
-    NodeLanes column[8];
     for (uint32_t j = 0; j < 4; ++j) {
         column[j] = __builtin_shuffle(u[j], u[j + 4], Pick{0, 1, 2, 3, 8, 9, 10, 11});
         column[j + 4] = __builtin_shuffle(u[j], u[j + 4], Pick{4, 5, 6, 7, 12, 13, 14, 15});
     }
-    for (int axis = 0; axis < 3; ++axis) {
-        lanes_store(p.origin[axis] + first, column[axis]);
-        lanes_store(p.direction[axis] + first, column[3 + axis]);
-    }
-    lanes_store(p.t_max + first, column[6]);
-    lanes_store(p.t_cull + first, column[6]);
-    lanes_store(p.time + first, column[7]);
 }
 
+// A register's rays (first to first + kRayLanes - 1) as eight columns, each
+// one register: with 16 lanes, two transposes joined.
+template <typename Lanes>
+[[gnu::always_inline]] inline void transpose_rays(const Ray* rays, uint32_t n, uint32_t first, Lanes column[8]) {
+    NodeLanes low[8];
+    transpose_eight_rays(rays, n, first, low);
+    if constexpr (sizeof(Lanes) == 2 * sizeof(NodeLanes)) {
+        NodeLanes high[8];
+        transpose_eight_rays(rays, n, first + 8, high);
+        for (uint32_t j = 0; j < 8; ++j)
+            column[j] = __builtin_shufflevector(low[j], high[j], 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    } else {
+        static_assert(sizeof(Lanes) == sizeof(NodeLanes));
+        for (uint32_t j = 0; j < 8; ++j) column[j] = low[j];
+    }
+}
+
+// Sets up the packet from registers, storing each column whole: eight-lane
+// stores that sixteen-lane loads read back cannot be forwarded, and stalled
+// the setup for a quarter of its time.
 [[gnu::always_inline]] inline PacketLoad load_packet(bvh::PacketRays& p, const Ray* rays, uint32_t n) {
     p.count = n;
-    for (uint32_t first = 0; first < bvh::kPacketSize; first += 8) load_eight_rays(p, rays, n, first);
+    constexpr uint32_t kGroups = bvh::kPacketSize / kRayLanes;
+    RayLanes column[kGroups][8];
+    for (uint32_t g = 0; g < kGroups; ++g) {
+        transpose_rays(rays, n, g * kRayLanes, column[g]);
+        for (int axis = 0; axis < 3; ++axis) {
+            lanes_store(p.origin[axis] + g * kRayLanes, column[g][axis]);
+            lanes_store(p.direction[axis] + g * kRayLanes, column[g][3 + axis]);
+        }
+        lanes_store(p.t_max + g * kRayLanes, column[g][6]);
+        lanes_store(p.t_cull + g * kRayLanes, column[g][6]);
+        lanes_store(p.time + g * kRayLanes, column[g][7]);
+    }
     // Rays from one point (a pinhole camera's) or along one direction (an
     // orthographic one's) make a cone or a beam the intervals bound tightly.
     // Rays from many points in many directions (shadow rays from a tile's
@@ -65,10 +91,9 @@ static_assert(sizeof(Ray) == 8 * sizeof(float) && offsetof(Ray, direction) == 3 
     RayMask usable = same_origin;
     RayLanes o_low[3], o_high[3], inv_low[3], inv_high[3];
     for (int axis = 0; axis < 3; ++axis) {
-        const RayLanes o0 = lanes_splat<RayLanes>(p.origin[axis][0]), d0 = lanes_splat<RayLanes>(p.direction[axis][0]);
-        for (uint32_t first = 0; first < bvh::kPacketSize; first += kRayLanes) {
-            const RayLanes o = lanes_load<RayLanes>(p.origin[axis] + first),
-                           d = lanes_load<RayLanes>(p.direction[axis] + first);
+        const RayLanes o0 = lanes_splat<RayLanes>(column[0][axis][0]), d0 = lanes_splat<RayLanes>(column[0][3 + axis][0]);
+        for (uint32_t g = 0, first = 0; g < kGroups; ++g, first += kRayLanes) {
+            const RayLanes o = column[g][axis], d = column[g][3 + axis];
             const RayLanes inv = lanes_splat<RayLanes>(1.0f) / d;
             lanes_store(p.inv_direction[axis] + first, inv);
             same_origin &= o == o0;
@@ -81,11 +106,10 @@ static_assert(sizeof(Ray) == 8 * sizeof(float) && offsetof(Ray, direction) == 3 
         }
     }
     if (lanes_bits(usable) != kRayLaneBits) return PacketLoad::refused;
-    p.shared_origin = lanes_bits(same_origin) == kRayLaneBits;
-    RayLanes time_low = lanes_load<RayLanes>(p.time), time_high = time_low;
-    for (uint32_t first = kRayLanes; first < bvh::kPacketSize; first += kRayLanes) {
-        time_low = lanes_min(time_low, lanes_load<RayLanes>(p.time + first));
-        time_high = lanes_max(time_high, lanes_load<RayLanes>(p.time + first));
+    RayLanes time_low = column[0][7], time_high = time_low;
+    for (uint32_t g = 1; g < kGroups; ++g) {
+        time_low = lanes_min(time_low, column[g][7]);
+        time_high = lanes_max(time_high, column[g][7]);
     }
     p.time_low = lanes_low(time_low), p.time_high = lanes_high(time_high);
     if (lanes_bits(same_origin) != kRayLaneBits && lanes_bits(same_direction) != kRayLaneBits) return PacketLoad::rays;

@@ -28,7 +28,7 @@
         exit = t_far < exit ? t_far : exit;
     }
     __builtin_memcpy(t_entry, &enter, sizeof enter);
-    return lanes_bits((enter <= exit) & (enter < t_max));
+    return lanes_entered(enter, exit, lanes_splat<NodeLanes>(t_max));
 }
 
 // A moving node's plane rows over the packet's times: per row the lower of
@@ -82,7 +82,7 @@
             enter = t_near > enter ? t_near : enter;
             exit = t_far < exit ? t_far : exit;
         }
-        entering |= lanes_bits((enter <= exit) & (enter < t_max)) << first;
+        entering |= lanes_entered(enter, exit, t_max) << first;
     }
     return entering & rays;
 }
@@ -102,14 +102,14 @@ struct PacketPending {
     return lanes_high(reach);
 }
 
-// node_test(node, index, reach, t_entry) says which children some ray of the
-// packet may enter before `reach`, with lower bounds of where in t_entry
-// (packet_box_test, or frustum_box_test with zeros). leaf_test(first_block,
+// Closest-hit traversal. node_test(node, index, reach, t_entry) says which
+// children some ray of the packet may enter before `reach`, with lower
+// bounds of where in t_entry (packet_box_test). leaf_test(first_block,
 // block_count, rays) tests the leaf's primitives against the rays (a mask)
-// that enter its box. A closest-hit test lowers their p.t_max (and t_cull)
-// to the hits it finds; an any-hit test returns the rays it stopped, which leave the packet.
-// Starts with the rays in `active`.
-template <bvh::Query query, typename NodeTest, typename LeafTest>
+// that enter its box, and lowers their p.t_max (and t_cull) to the hits it
+// finds. Starts with the rays in `active`. (Shadow rays take
+// packet_masked_traverse.inl.)
+template <typename NodeTest, typename LeafTest>
 [[gnu::always_inline]] inline void traverse_packet(const bvh::WideBvh& bvh, bvh::PacketRays& p, uint32_t active,
                                                    NodeTest&& node_test, LeafTest&& leaf_test) {
     if (bvh.empty() || active == 0) return;
@@ -125,15 +125,14 @@ template <bvh::Query query, typename NodeTest, typename LeafTest>
             alignas(32) float t_entry[bvh::kWideWidth];
             uint32_t hits = node_test(node, ref.node(), reach, t_entry);
             if (hits != 0) {
-                // Farthest first onto the stack, the nearest taken now (any-hit: by slot,
-                // as a single ray's any-hit query takes them).
+                // Farthest first onto the stack, the nearest taken now.
                 uint64_t keys[bvh::kWideWidth];
                 uint32_t count = 0;
                 for (; hits != 0; hits &= hits - 1) {
                     const uint32_t slot = uint32_t(__builtin_ctz(hits));
                     uint32_t bits;
                     __builtin_memcpy(&bits, &t_entry[slot], sizeof bits);
-                    const uint64_t key = query == bvh::Query::any_hit ? uint64_t(slot) : uint64_t(bits) << 32 | slot;
+                    const uint64_t key = uint64_t(bits) << 32 | slot;
                     uint32_t i = count++;
                     for (; i > 0 && keys[i - 1] < key; --i) keys[i] = keys[i - 1];
                     keys[i] = key;
@@ -152,12 +151,7 @@ template <bvh::Query query, typename NodeTest, typename LeafTest>
             const bvh::WideBoxes* motion = bvh.motion.empty() ? nullptr : &bvh.motion[current.parent];
             const uint32_t rays = rays_entering(bvh.nodes[current.parent], motion, current.slot, p, active);
             if (rays != 0) {
-                if constexpr (query == bvh::Query::any_hit) {
-                    active &= ~leaf_test(ref.first_block(), ref.block_count(), rays);
-                    if (active == 0) return;
-                } else {
-                    leaf_test(ref.first_block(), ref.block_count(), rays);
-                }
+                leaf_test(ref.first_block(), ref.block_count(), rays);
                 reach = packet_reach(p, active);
             }
         }

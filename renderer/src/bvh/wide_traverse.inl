@@ -87,14 +87,15 @@ template <typename PrefetchLeaf>
 // kMoving: the tree has boxes at shutter close too, interpolated to ray.time.
 template <bvh::Query query, bool kMoving, typename LeafTest, typename PrefetchLeaf, typename Observer>
 [[gnu::always_inline]] inline bool traverse_wide(const bvh::WideBvh& bvh, const Ray& ray, LeafTest&& leaf_test,
-                                                 PrefetchLeaf&& prefetch_leaf, Observer& observer) {
+                                                 PrefetchLeaf&& prefetch_leaf, Observer& observer,
+                                                 bvh::ChildRef start = bvh::ChildRef::inner(0)) {
     if (bvh.empty()) return false;
     const bvh::WideBoxRay box_ray(ray);
     float t_max = ray.t_max;
     float reach = t_max;  // where boxes are still entered: tie_reach(t_max) once a hit is found
     WidePending stack[bvh::kWideStackSize];
     uint32_t stack_size = 0;
-    bvh::ChildRef current = bvh::ChildRef::inner(0);
+    bvh::ChildRef current = start;
     bool found = false;
     for (;;) {
         if (!current.is_leaf()) {

@@ -82,11 +82,11 @@ class Accelerator {
 
     // Packets of up to kPacketSize coherent rays, such as a tile's 4 x 4 camera
     // rays (one origin) or an orthographic beam (one direction), and for
-    // visibility also shadow rays towards one light: the answers of the
-    // single-ray queries, found with one traversal of the tree
-    // (bvh/packet_rays.h, bvh/packet_frustum.inl); in a moving scene each ray
-    // at its time. Other packets, and scenes with alpha or instances
-    // (packets_serve() false), are traced ray by ray. Returns whether the packet traversal served them. Throws
+    // visibility any shadow rays, such as a point's samples of an area light:
+    // the answers of the single-ray queries, found with one traversal of the
+    // tree (bvh/packet_rays.h, bvh/packet_masked_traverse.inl); in a moving
+    // scene each ray at its time. Other packets, and scenes with alpha or
+    // instances (packets_serve() false), are traced ray by ray. Returns whether the packet traversal served them. Throws
     // std::invalid_argument when the spans differ in size or hold more than
     // kPacketSize rays.
     static constexpr uint32_t kPacketSize = bvh::kPacketSize;

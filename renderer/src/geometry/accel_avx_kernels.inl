@@ -9,6 +9,6 @@
 #include "bvh/wide_traverse.inl"
 #include "bvh/packet_lanes.inl"
 #include "bvh/packet_setup.inl"
-#include "bvh/packet_frustum.inl"
 #include "bvh/packet_traverse.inl"
+#include "bvh/packet_masked_traverse.inl"
 #include "geometry/accel_kernels.inl"

@@ -24,8 +24,8 @@ template <bool kMoving>
 inline constexpr SimdPath kSimdPath = SimdPath::generic;
 #include "bvh/packet_lanes.inl"
 #include "bvh/packet_setup.inl"
-#include "bvh/packet_frustum.inl"
 #include "bvh/packet_traverse.inl"
+#include "bvh/packet_masked_traverse.inl"
 #include "geometry/accel_kernels.inl"
 
 }  // namespace rt::generic

@@ -169,7 +169,8 @@ template <bool kMoving, bool kFiltered, typename Observer>
 // Returns whether an opaque triangle of one tree stopped the ray; scales
 // `visibility` by the BLEND surfaces it passed.
 template <bool kMoving, bool kFiltered, typename Observer>
-[[gnu::flatten]] bool any_triangle(const AccelData& data, const Ray& ray, float& visibility, Observer observer) {
+[[gnu::flatten]] bool any_triangle(const AccelData& data, const Ray& ray, float& visibility, Observer observer,
+                                   bvh::ChildRef start = bvh::ChildRef::inner(0)) {
     LazyShear shear(ray);
     return traverse_wide<bvh::Query::any_hit, kMoving>(
         data.bvh, ray,
@@ -177,7 +178,7 @@ template <bool kMoving, bool kFiltered, typename Observer>
             return stopped_in_leaf<kMoving, kFiltered>(data, shear.get(), first_block, block_count, ray.time, t_max,
                                                        visibility, observer);
         },
-        [&](bvh::ChildRef leaf) { prefetch_blocks<kMoving>(data, leaf); }, observer);
+        [&](bvh::ChildRef leaf) { prefetch_blocks<kMoving>(data, leaf); }, observer, start);
 }
 
 // One tree, with the kernels its flags call for.

@@ -4,9 +4,9 @@
 // Included by accel_kernels.inl inside its ISA namespace.
 //
 // Only an opaque scene without instances takes the packet path (a moving one
-// too, each ray at its own time); any other scene, and a
-// packet whose rays do not share their direction signs (load_packet), is
-// traced ray by ray.
+// too, each ray at its own time); any other scene is traced ray by ray, and
+// so is a closest-hit packet whose rays the intervals do not bound
+// (load_packet).
 
 #include "geometry/triangle_rays_test.inl"
 
@@ -112,7 +112,7 @@ template <bool kMoving>
             return packet_box_test(node.lower[0], p, reach, t_entry);
         }
     };
-    traverse_packet<bvh::Query::closest_hit>(data.bvh, p, (1u << p.count) - 1, intervals, [&](uint32_t first_block,
+    traverse_packet(data.bvh, p, (1u << p.count) - 1, intervals, [&](uint32_t first_block,
                                                                                           uint32_t block_count,
                                                                                           uint32_t in) {
 
@@ -142,38 +142,60 @@ template <bool kMoving>
             hits[r] = {p.t_max[r], nearest.primitive[r], nearest.u[r], nearest.v[r]};
 }
 
-// Returns the rays (a mask of those in `active`) an opaque triangle stops.
-// node_test: traverse_packet's.
-template <bool kMoving, typename NodeTest>
-[[gnu::flatten]] inline uint32_t occluded_packet(const AccelData& data, bvh::PacketRays& p, uint32_t active,
-                                                 NodeTest&& node_test) {
-    const PacketShear shear(p);
-    SilentObserver none;
+// The rays of `in` that an opaque triangle of the leaf stops: those that
+// share a register with enough others a triangle at a time, the rest ray by ray.
+template <bool kMoving>
+[[gnu::always_inline]] inline uint32_t stopped_in_packet_leaf(const AccelData& data, const bvh::PacketRays& p,
+                                                              const PacketShear& shear, uint32_t first_block,
+                                                              uint32_t block_count, uint32_t in) {
+    prefetch_blocks<kMoving>(data, bvh::ChildRef::leaf(first_block, block_count));
     uint32_t stopped = 0;
-    traverse_packet<bvh::Query::any_hit>(data.bvh, p, active, node_test, [&](uint32_t first_block,
-                                                                             uint32_t block_count, uint32_t in) {
-        prefetch_blocks<kMoving>(data, bvh::ChildRef::leaf(first_block, block_count));
-        uint32_t stopped_here = 0;
-        if (const uint32_t by_triangle = rays_by_triangle(shear, in)) {
-            stopped_here = by_triangle & ~leaf_by_triangle<kMoving>(data, p, shear, first_block, block_count, by_triangle,
+    if (const uint32_t by_triangle = rays_by_triangle(shear, in)) {
+        stopped = by_triangle & ~leaf_by_triangle<kMoving>(data, p, shear, first_block, block_count, by_triangle,
                                                            [](uint32_t, uint32_t hit, uint32_t, const RaysHits&) {
                                                                return hit;
                                                            });
-            in &= ~by_triangle;
-        }
-        for (; in != 0; in &= in - 1) {
-            const uint32_t r = uint32_t(__builtin_ctz(in));
-            float unused = 1.0f;  // an opaque scene's rays pass or stop
-            if (stopped_in_leaf<kMoving, false>(data, WatertightRay4(shear.ray(r)), first_block, block_count, p.time[r],
-                                              p.t_max[r], unused, none))
-                stopped_here |= 1u << r;
-        }
-        stopped |= stopped_here;
-        return stopped_here;
-    });
+        in &= ~by_triangle;
+    }
+    SilentObserver none;
+    for (; in != 0; in &= in - 1) {
+        const uint32_t r = uint32_t(__builtin_ctz(in));
+        float unused = 1.0f;  // an opaque scene's rays pass or stop
+        if (stopped_in_leaf<kMoving, false>(data, WatertightRay4(shear.ray(r)), first_block, block_count, p.time[r],
+                                            p.t_max[r], unused, none))
+            stopped |= 1u << r;
+    }
     return stopped;
 }
 
+// Returns the rays (a mask of those in `active`) an opaque triangle stops
+// (bvh/packet_masked_traverse.inl). A packet that leaves a one-ray
+// register's worth of rays at some node sends them on with any_triangle.
+template <bool kMoving>
+[[gnu::flatten]] inline uint32_t occluded_packet(const AccelData& data, const bvh::PacketRays& p, PacketLoad load,
+                                                 uint32_t active) {
+    const PacketShear shear(p);
+    const auto leaf_test = [&](uint32_t first_block, uint32_t block_count, uint32_t in) {
+        return stopped_in_packet_leaf<kMoving>(data, p, shear, first_block, block_count, in);
+    };
+    const auto single_test = [&](uint32_t r, bvh::ChildRef subtree) {
+        const Ray ray{{p.origin[0][r], p.origin[1][r], p.origin[2][r]},
+                      {p.direction[0][r], p.direction[1][r], p.direction[2][r]}, p.t_max[r], p.time[r]};
+        float unused = 1.0f;  // an opaque scene's rays pass or stop
+        return any_triangle<kMoving, false>(data, ray, unused, SilentObserver{}, subtree);
+    };
+    // Culled by the segments' box; where some ray runs to infinity, by the
+    // intervals if they bound the rays, or else only the empty slots.
+    if (SegmentBox box; make_segment_box(box, p))
+        return occlude_masked<kMoving>(data.bvh, p, active, [&](const float* rows) { return segment_box_test(rows, box); },
+                                       leaf_test, single_test);
+    if (load == PacketLoad::intervals)
+        return occlude_masked<kMoving>(data.bvh, p, active, [&](const float* rows) {
+            alignas(32) float t_entry[bvh::kWideWidth];
+            return packet_box_test(rows, p, kInfinity, t_entry);
+        }, leaf_test, single_test);
+    return occlude_masked<kMoving>(data.bvh, p, active, occupied_slots, leaf_test, single_test);
+}
 
 bool intersect_packet_with(const AccelScene& accel, const Ray* rays, uint32_t count, Hit* hits) {
     bvh::PacketRays p;
@@ -193,51 +215,22 @@ bool intersect_packet_with(const AccelScene& accel, const Ray* rays, uint32_t co
     return true;
 }
 
-// The rays of `active` that the tree stops, its nodes culled by the
-// intervals or by the frustum (a moving node's boxes swept over the packet's
-// times).
-template <bool kMoving>
-inline uint32_t occluded_by(const AccelData& data, bvh::PacketRays& p, const PacketFrustum& frustum, PacketLoad load,
-                            uint32_t active) {
-    alignas(32) float swept[6 * bvh::kWideWidth];
-    const auto rows_of = [&](const bvh::WideNode& node, uint32_t index) -> const float* {
-        if constexpr (!kMoving) return node.lower[0];
-        swept_rows(node, data.bvh.motion[index], p, swept);
-        return swept;
-    };
-    if (load == PacketLoad::intervals)
-        return occluded_packet<kMoving>(data, p, active, [&](const bvh::WideNode& node, uint32_t index, float reach,
-                                                             float* t_entry) {
-            return packet_box_test(rows_of(node, index), p, reach, t_entry);
-        });
-    return occluded_packet<kMoving>(data, p, active, [&](const bvh::WideNode& node, uint32_t index, float,
-                                                         float* t_entry) {
-        std::fill_n(t_entry, bvh::kWideWidth, 0.0f);
-        return frustum_box_test(rows_of(node, index), frustum);
-    });
-}
-
-// Packets the intervals bound (a camera's, an orthographic one's, a point's
-// samples of a light in one octant) take the interval test; shadow rays
-// towards one light, or from one point to the samples of a light, take the
-// frustum's.
+// Any packet whose rays have finite origins and reciprocals (load_packet)
+// takes the packet traversal; the others go ray by ray.
 bool visibility_packet_with(const AccelScene& accel, const Ray* rays, uint32_t count, float* visibility) {
     bvh::PacketRays p;
-    PacketFrustum frustum;
     const PacketLoad load = count < 2 || !accel.packets_serve() ? PacketLoad::refused : load_packet(p, rays, count);
-    if (load == PacketLoad::refused ||
-        (load == PacketLoad::rays && !make_frustum(frustum, p, accel.world.coordinate_scale, p.shared_origin))) {
+    if (load == PacketLoad::refused) {
         for (uint32_t i = 0; i < count; ++i) visibility[i] = visibility_with(accel, rays[i], SilentObserver{});
         return false;
     }
-    uint32_t active = 0;
-    for (uint32_t i = 0; i < count; ++i) {
-        const bool blocked = sphere_blocks(*accel.scene, rays[i]);
-        visibility[i] = blocked ? 0.0f : 1.0f;
-        active |= uint32_t(!blocked) << i;
-    }
-    uint32_t stopped = accel.world.moving ? occluded_by<true>(accel.world, p, frustum, load, active)
-                                          : occluded_by<false>(accel.world, p, frustum, load, active);
+    uint32_t active = (1u << count) - 1;
+    std::fill_n(visibility, count, 1.0f);
+    if (!accel.scene->spheres.empty())
+        for (uint32_t i = 0; i < count; ++i)
+            if (sphere_blocks(*accel.scene, rays[i])) visibility[i] = 0.0f, active &= ~(1u << i);
+    uint32_t stopped = accel.world.moving ? occluded_packet<true>(accel.world, p, load, active)
+                                          : occluded_packet<false>(accel.world, p, load, active);
     for (; stopped != 0; stopped &= stopped - 1) visibility[__builtin_ctz(stopped)] = 0.0f;
     return true;
 }
