@@ -21,6 +21,18 @@ namespace rt::bvh {
 
 inline constexpr uint32_t kPacketSize = 16;
 
+// Intervals that bound a set of rays which run the same way along each axis
+// (the interval test, packet_traverse.inl's packet_box_test).
+struct PacketIntervals {
+    // Shared by every ray: the row of a node each axis' entry plane sits in.
+    uint32_t near_row[3];
+    uint32_t far_row[3];
+    // Per axis: the origin that gives the smallest entry distance and the one
+    // that gives the largest exit, and the reciprocals' range.
+    float near_origin[3], far_origin[3];
+    float inv_low[3], inv_high[3];
+};
+
 struct PacketRays {
     // The largest ratio of the reciprocals along one axis that load_packet()
     // accepts: 1.5 and 4 traced the 4 x 4 camera rays of the dragons alike.
@@ -40,13 +52,8 @@ struct PacketRays {
     // triangles are taken at it), and the earliest and latest of them.
     alignas(64) float time[kPacketSize];
     float time_low, time_high;
-    // Shared by every ray: the row of a node each axis' entry plane sits in.
-    uint32_t near_row[3];
-    uint32_t far_row[3];
-    // Per axis: the origin that gives the smallest entry distance and the one
-    // that gives the largest exit, and the reciprocals' range.
-    float near_origin[3], far_origin[3];
-    float inv_low[3], inv_high[3];
+    // Bounds of all the rays, when load_packet finds that they bound them.
+    PacketIntervals intervals;
 };
 
 }  // namespace rt::bvh

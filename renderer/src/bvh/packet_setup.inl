@@ -63,6 +63,32 @@ template <typename Lanes>
     }
 }
 
+// Intervals around rays with origins in [origin_low, origin_high] and
+// direction reciprocals in [inv_low, inv_high], per axis; false when they
+// would not bound them tightly, or at all.
+inline bool bound_rays(bvh::PacketIntervals& iv, const float origin_low[3], const float origin_high[3],
+                       const float inv_low[3], const float inv_high[3]) {
+    for (int axis = 0; axis < 3; ++axis) {
+        const float low = inv_low[axis], high = inv_high[axis];
+        const bool negative = high < 0.0f;
+        if (!negative && low < 0.0f) return false;
+        // The product's bounds grow with the reciprocals' spread: where a
+        // direction component nears 0 it can span decades, and the packet
+        // would enter every box along the other axes.
+        const float spread = negative ? low / high : high / low;
+        if (!(spread <= bvh::PacketRays::kMaxSpread)) return false;
+        iv.inv_low[axis] = low, iv.inv_high[axis] = high;
+        constexpr uint32_t kUpper = 3 * bvh::kWideWidth;
+        iv.near_row[axis] = uint32_t(axis) * bvh::kWideWidth + (negative ? kUpper : 0);
+        iv.far_row[axis] = uint32_t(axis) * bvh::kWideWidth + (negative ? 0 : kUpper);
+        // (plane - origin) * inv is increasing in the plane - origin
+        // difference for positive reciprocals and decreasing for negative.
+        iv.near_origin[axis] = negative ? origin_low[axis] : origin_high[axis];
+        iv.far_origin[axis] = negative ? origin_high[axis] : origin_low[axis];
+    }
+    return true;
+}
+
 // Sets up the packet from registers, storing each column whole: eight-lane
 // stores that sixteen-lane loads read back cannot be forwarded, and stalled
 // the setup for a quarter of its time.
@@ -113,23 +139,11 @@ template <typename Lanes>
     }
     p.time_low = lanes_low(time_low), p.time_high = lanes_high(time_high);
     if (lanes_bits(same_origin) != kRayLaneBits && lanes_bits(same_direction) != kRayLaneBits) return PacketLoad::rays;
+    float origin_low[3], origin_high[3], reciprocal_low[3], reciprocal_high[3];
     for (int axis = 0; axis < 3; ++axis) {
-        const float low = lanes_low(inv_low[axis]), high = lanes_high(inv_high[axis]);
-        const bool negative = high < 0.0f;
-        if (!negative && low < 0.0f) return PacketLoad::rays;
-        // The product's bounds grow with the reciprocals' spread: where a
-        // direction component nears 0 it can span decades, and the packet
-        // would enter every box along the other axes.
-        const float spread = negative ? low / high : high / low;
-        if (!(spread <= bvh::PacketRays::kMaxSpread)) return PacketLoad::rays;
-        p.inv_low[axis] = low, p.inv_high[axis] = high;
-        constexpr uint32_t kUpper = 3 * bvh::kWideWidth;
-        p.near_row[axis] = uint32_t(axis) * bvh::kWideWidth + (negative ? kUpper : 0);
-        p.far_row[axis] = uint32_t(axis) * bvh::kWideWidth + (negative ? 0 : kUpper);
-        // (plane - origin) * inv is increasing in the plane - origin
-        // difference for positive reciprocals and decreasing for negative.
-        p.near_origin[axis] = negative ? lanes_low(o_low[axis]) : lanes_high(o_high[axis]);
-        p.far_origin[axis] = negative ? lanes_high(o_high[axis]) : lanes_low(o_low[axis]);
+        origin_low[axis] = lanes_low(o_low[axis]), origin_high[axis] = lanes_high(o_high[axis]);
+        reciprocal_low[axis] = lanes_low(inv_low[axis]), reciprocal_high[axis] = lanes_high(inv_high[axis]);
     }
+    if (!bound_rays(p.intervals, origin_low, origin_high, reciprocal_low, reciprocal_high)) return PacketLoad::rays;
     return PacketLoad::intervals;
 }

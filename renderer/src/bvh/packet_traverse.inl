@@ -10,7 +10,7 @@
 // Bit i: some ray of the packet may enter child i's box before t_max;
 // t_entry[i] is then a lower bound of where any does (at least 0).
 // `rows`: a node's plane rows, its lower[3][8] then its upper[3][8].
-[[gnu::always_inline]] inline uint32_t packet_box_test(const float* rows, const bvh::PacketRays& p, float t_max,
+[[gnu::always_inline]] inline uint32_t packet_box_test(const float* rows, const bvh::PacketIntervals& p, float t_max,
                                                        float* t_entry) {
     NodeLanes enter = lanes_splat<NodeLanes>(0.0f);
     NodeLanes exit = lanes_splat<NodeLanes>(t_max);

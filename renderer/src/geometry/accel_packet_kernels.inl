@@ -107,9 +107,9 @@ template <bool kMoving>
         if constexpr (kMoving) {
             alignas(32) float rows[6 * bvh::kWideWidth];
             swept_rows(node, data.bvh.motion[index], p, rows);
-            return packet_box_test(rows, p, reach, t_entry);
+            return packet_box_test(rows, p.intervals, reach, t_entry);
         } else {
-            return packet_box_test(node.lower[0], p, reach, t_entry);
+            return packet_box_test(node.lower[0], p.intervals, reach, t_entry);
         }
     };
     traverse_packet(data.bvh, p, (1u << p.count) - 1, intervals, [&](uint32_t first_block,
@@ -184,16 +184,21 @@ template <bool kMoving>
         float unused = 1.0f;  // an opaque scene's rays pass or stop
         return any_triangle<kMoving, false>(data, ray, unused, SilentObserver{}, subtree);
     };
-    // Culled by the segments' box; where some ray runs to infinity, by the
-    // intervals if they bound the rays, or else only the empty slots.
+    // Nodes culled by the tightest bound the rays allow: the intervals
+    // around them, or around them run backwards from where they end, or the
+    // box around their segments, or else only the empty slots.
+    const auto by_intervals = [&](const bvh::PacketIntervals& iv, float reach) {
+        return occlude_masked<kMoving>(data.bvh, p, active, [&](const float* rows) {
+            alignas(32) float t_entry[bvh::kWideWidth];
+            return packet_box_test(rows, iv, reach, t_entry);
+        }, leaf_test, single_test);
+    };
+    if (load == PacketLoad::intervals) return by_intervals(p.intervals, packet_reach(p, active));
+    bvh::PacketIntervals reversed;
+    if (float reach; reverse_segments(reversed, reach, p)) return by_intervals(reversed, reach);
     if (SegmentBox box; make_segment_box(box, p))
         return occlude_masked<kMoving>(data.bvh, p, active, [&](const float* rows) { return segment_box_test(rows, box); },
                                        leaf_test, single_test);
-    if (load == PacketLoad::intervals)
-        return occlude_masked<kMoving>(data.bvh, p, active, [&](const float* rows) {
-            alignas(32) float t_entry[bvh::kWideWidth];
-            return packet_box_test(rows, p, kInfinity, t_entry);
-        }, leaf_test, single_test);
     return occlude_masked<kMoving>(data.bvh, p, active, occupied_slots, leaf_test, single_test);
 }
 
