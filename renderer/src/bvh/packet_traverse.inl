@@ -1,27 +1,27 @@
-// Traversal of the eight-wide BVH by a packet of coherent rays (packet_rays.h),
-// compiled once per SIMD path like wide_traverse.inl, after it, inside the
-// ISA namespace. Inner nodes take one interval test for the whole packet;
-// a leaf is then offered to the rays that enter its own box, tested ray by
-// ray exactly as wide_box_test tests it, so each ray meets the triangles its
-// single-ray traversal would reach and gets the same answer.
+// Closest-hit traversal of the eight-wide BVH by a packet of coherent rays
+// (packet_rays.h), compiled once per SIMD path like wide_traverse.inl, after
+// it, inside the ISA namespace. Inner nodes take one interval test for the
+// whole packet; a leaf is then offered to the rays that enter its own box,
+// tested ray by ray exactly as wide_box_test tests it, so each ray meets the
+// triangles its single-ray traversal would reach and gets the same answer.
 //
 // After packet_lanes.inl and packet_setup.inl.
 
-// Bit i: some ray of the packet may enter child i's box before t_max;
+// Bit i: some ray the intervals bound may enter child i's box before t_max;
 // t_entry[i] is then a lower bound of where any does (at least 0).
 // `rows`: a node's plane rows, its lower[3][8] then its upper[3][8].
-[[gnu::always_inline]] inline uint32_t packet_box_test(const float* rows, const bvh::PacketIntervals& p, float t_max,
+[[gnu::always_inline]] inline uint32_t packet_box_test(const float* rows, const bvh::PacketIntervals& iv, float t_max,
                                                        float* t_entry) {
     NodeLanes enter = lanes_splat<NodeLanes>(0.0f);
     NodeLanes exit = lanes_splat<NodeLanes>(t_max);
     for (int axis = 0; axis < 3; ++axis) {
-        const NodeLanes low = lanes_splat<NodeLanes>(p.inv_low[axis]), high = lanes_splat<NodeLanes>(p.inv_high[axis]);
+        const NodeLanes low = lanes_splat<NodeLanes>(iv.inv_low[axis]), high = lanes_splat<NodeLanes>(iv.inv_high[axis]);
         // The corners of the interval product: rounding is monotone, so these
         // bound every ray's rounded distances too.
-        const NodeLanes to_near = lanes_load<NodeLanes>(rows + p.near_row[axis]) - p.near_origin[axis];
+        const NodeLanes to_near = lanes_load<NodeLanes>(rows + iv.near_row[axis]) - iv.near_origin[axis];
         const NodeLanes near_low = to_near * low, near_high = to_near * high;
         const NodeLanes t_near = near_low < near_high ? near_low : near_high;
-        const NodeLanes to_far = lanes_load<NodeLanes>(rows + p.far_row[axis]) - p.far_origin[axis];
+        const NodeLanes to_far = lanes_load<NodeLanes>(rows + iv.far_row[axis]) - iv.far_origin[axis];
         const NodeLanes far_low = to_far * low, far_high = to_far * high;
         const NodeLanes t_far = (far_low > far_high ? far_low : far_high) * bvh::kExitScale;
         enter = t_near > enter ? t_near : enter;
