@@ -96,10 +96,11 @@ struct PacketNearest {
 }
 
 // An opaque world tree only: the caller checks. The rays' hits so far
-// (spheres) stay where no triangle is nearer. kMoving: the tree moves, and
-// each ray meets it at its own time.
+// (spheres) stay where no triangle is nearer, or with `clear_misses` (no
+// spheres) become Hit{}. kMoving: the tree moves, and each ray meets it at
+// its own time.
 template <bool kMoving>
-[[gnu::flatten]] inline void closest_packet(const AccelData& data, bvh::PacketRays& p, Hit* hits) {
+[[gnu::flatten]] inline void closest_packet(const AccelData& data, bvh::PacketRays& p, Hit* hits, bool clear_misses) {
     const PacketShear shear(p);
     SilentObserver none;
     PacketNearest nearest;  // the triangles', as closest_triangle keeps its own
@@ -140,6 +141,8 @@ template <bool kMoving>
     for (uint32_t r = 0; r < p.count; ++r)
         if (nearest.primitive[r] != kNoPrimitive)
             hits[r] = {p.t_max[r], nearest.primitive[r], nearest.u[r], nearest.v[r]};
+        else if (clear_misses)
+            hits[r] = Hit{};
 }
 
 // The rays of `in` that an opaque triangle of the leaf stops: those that
@@ -208,15 +211,14 @@ bool intersect_packet_with(const AccelScene& accel, const Ray* rays, uint32_t co
         for (uint32_t i = 0; i < count; ++i) intersect_with(accel, rays[i], hits[i], SilentObserver{});
         return false;
     }
-    if (accel.scene->spheres.empty())
-        std::fill_n(hits, count, Hit{});
-    else
+    const bool spheres = !accel.scene->spheres.empty();
+    if (spheres)
         for (uint32_t i = 0; i < count; ++i)
             p.t_max[i] = p.t_cull[i] = nearest_sphere(*accel.scene, rays[i], hits[i]).t_max;
     if (accel.world.moving)
-        closest_packet<true>(accel.world, p, hits);
+        closest_packet<true>(accel.world, p, hits, !spheres);
     else
-        closest_packet<false>(accel.world, p, hits);
+        closest_packet<false>(accel.world, p, hits, !spheres);
     return true;
 }
 
