@@ -23,36 +23,59 @@
 // Compiled once per SIMD path, after packet_traverse.inl (rays_entering,
 // swept_rows), inside its ISA namespace.
 
-// The box around every segment origin + [0, t_max] direction of the packet
-// (lanes past count copy ray 0), widened for the rounding of the box tests.
+// Where the packet's segments origin + [0, t_max] direction start and end
+// (lanes past count copy ray 0), lane by lane, and the reciprocals of their
+// directions reversed: what the culls below are made of, in one pass.
+struct SegmentLanes {
+    RayLanes origin_low[3], origin_high[3], end_low[3], end_high[3];
+    RayLanes back_inv_low[3], back_inv_high[3];
+    RayLanes t_high;
+};
+
+// False when some t_max is infinite: the segments are then unbounded.
+[[gnu::always_inline]] inline bool segment_lanes(SegmentLanes& s, const bvh::PacketRays& p) {
+    for (uint32_t first = 0; first < bvh::kPacketSize; first += kRayLanes) {
+        const RayLanes t_max = lanes_load<RayLanes>(p.t_max + first);
+        if (lanes_bits(t_max < kInfinity) != kRayLaneBits) return false;
+        const bool start = first == 0;
+        s.t_high = start ? t_max : lanes_max(s.t_high, t_max);
+        for (int axis = 0; axis < 3; ++axis) {
+            const RayLanes origin = lanes_load<RayLanes>(p.origin[axis] + first);
+            const RayLanes end = origin + t_max * lanes_load<RayLanes>(p.direction[axis] + first);
+            const RayLanes back_inv = -lanes_load<RayLanes>(p.inv_direction[axis] + first);
+            s.origin_low[axis] = start ? origin : lanes_min(s.origin_low[axis], origin);
+            s.origin_high[axis] = start ? origin : lanes_max(s.origin_high[axis], origin);
+            s.end_low[axis] = start ? end : lanes_min(s.end_low[axis], end);
+            s.end_high[axis] = start ? end : lanes_max(s.end_high[axis], end);
+            s.back_inv_low[axis] = start ? back_inv : lanes_min(s.back_inv_low[axis], back_inv);
+            s.back_inv_high[axis] = start ? back_inv : lanes_max(s.back_inv_high[axis], back_inv);
+        }
+    }
+    return true;
+}
+
+// [low, high] widened for rounding: a box test's rounding lets a ray enter a
+// box a few ulps beyond its segment's exact end, and the ends are rounded
+// too; a margin far above both, relative to the coordinates, keeps every
+// such box in.
+inline void widen(float& low, float& high) {
+    const float margin = 1e-5f * std::max(std::abs(low), std::abs(high)) + 1e-30f;
+    low -= margin, high += margin;
+}
+
+// The box around every segment.
 struct SegmentBox {
     float lower[3], upper[3];
 };
 
-// False when some t_max is infinite: the box would be unbounded.
-[[gnu::always_inline]] inline bool make_segment_box(SegmentBox& box, const bvh::PacketRays& p) {
-    RayLanes low[3], high[3];
-    for (uint32_t first = 0; first < bvh::kPacketSize; first += kRayLanes) {
-        const RayLanes t_max = lanes_load<RayLanes>(p.t_max + first);
-        if (lanes_bits(t_max < kInfinity) != kRayLaneBits) return false;
-        for (int axis = 0; axis < 3; ++axis) {
-            const RayLanes origin = lanes_load<RayLanes>(p.origin[axis] + first);
-            const RayLanes end = origin + t_max * lanes_load<RayLanes>(p.direction[axis] + first);
-            const RayLanes l = lanes_min(origin, end), h = lanes_max(origin, end);
-            low[axis] = first == 0 ? l : lanes_min(low[axis], l);
-            high[axis] = first == 0 ? h : lanes_max(high[axis], h);
-        }
-    }
-    // A box test's rounding lets a ray enter a box a few ulps beyond its
-    // segment's exact end: a margin far above that, relative to the
-    // coordinates, keeps every such box in.
+[[gnu::always_inline]] inline SegmentBox segment_box(const SegmentLanes& s) {
+    SegmentBox box;
     for (int axis = 0; axis < 3; ++axis) {
-        const float l = lanes_low(low[axis]), h = lanes_high(high[axis]);
-        const float margin = 1e-5f * std::max(std::abs(l), std::abs(h)) + 1e-30f;
-        box.lower[axis] = l - margin;
-        box.upper[axis] = h + margin;
+        box.lower[axis] = lanes_low(lanes_min(s.origin_low[axis], s.end_low[axis]));
+        box.upper[axis] = lanes_high(lanes_max(s.origin_high[axis], s.end_high[axis]));
+        widen(box.lower[axis], box.upper[axis]);
     }
-    return true;
+    return box;
 }
 
 // Bit i: child i's box overlaps the segments' box. An empty slot's inverted
@@ -76,37 +99,17 @@ struct MaskedPending {
 // ends, and how far they reach: shadow rays from a tile's hit points towards
 // one light meet there, so seen from the light they make a thin cone, which
 // the interval test bounds about as tightly as a camera's rays, where the
-// box of the segments holds the whole slab between. False when some t_max
-// is infinite or the intervals would not bound the reversed rays
-// (bound_rays).
-[[gnu::always_inline]] inline bool reverse_segments(bvh::PacketIntervals& iv, float& reach,
-                                                    const bvh::PacketRays& p) {
-    RayLanes end_low[3], end_high[3], inv_low[3], inv_high[3], t_high;
-    for (uint32_t first = 0; first < bvh::kPacketSize; first += kRayLanes) {
-        const RayLanes t_max = lanes_load<RayLanes>(p.t_max + first);
-        if (lanes_bits(t_max < kInfinity) != kRayLaneBits) return false;
-        t_high = first == 0 ? t_max : lanes_max(t_high, t_max);
-        for (int axis = 0; axis < 3; ++axis) {
-            const RayLanes end = lanes_load<RayLanes>(p.origin[axis] + first) +
-                                 t_max * lanes_load<RayLanes>(p.direction[axis] + first);
-            const RayLanes inv = -lanes_load<RayLanes>(p.inv_direction[axis] + first);
-            end_low[axis] = first == 0 ? end : lanes_min(end_low[axis], end);
-            end_high[axis] = first == 0 ? end : lanes_max(end_high[axis], end);
-            inv_low[axis] = first == 0 ? inv : lanes_min(inv_low[axis], inv);
-            inv_high[axis] = first == 0 ? inv : lanes_max(inv_high[axis], inv);
-        }
-    }
-    float origin_low[3], origin_high[3], reciprocal_low[3], reciprocal_high[3];
+// box of the segments holds the whole slab between. False when the
+// intervals would not bound the reversed rays (bound_rays).
+[[gnu::always_inline]] inline bool reverse_segments(bvh::PacketIntervals& iv, float& reach, const SegmentLanes& s) {
+    float end_low[3], end_high[3], inv_low[3], inv_high[3];
     for (int axis = 0; axis < 3; ++axis) {
-        const float low = lanes_low(end_low[axis]), high = lanes_high(end_high[axis]);
-        // The rounding of the ends, and of a ray's own box test, which may
-        // enter a box a few ulps past its segment: a margin far above both.
-        const float margin = 1e-5f * std::max(std::abs(low), std::abs(high)) + 1e-30f;
-        origin_low[axis] = low - margin, origin_high[axis] = high + margin;
-        reciprocal_low[axis] = lanes_low(inv_low[axis]), reciprocal_high[axis] = lanes_high(inv_high[axis]);
+        end_low[axis] = lanes_low(s.end_low[axis]), end_high[axis] = lanes_high(s.end_high[axis]);
+        widen(end_low[axis], end_high[axis]);
+        inv_low[axis] = lanes_low(s.back_inv_low[axis]), inv_high[axis] = lanes_high(s.back_inv_high[axis]);
     }
-    reach = lanes_high(t_high) * (1.0f + 1e-5f);
-    return bound_rays(iv, origin_low, origin_high, reciprocal_low, reciprocal_high);
+    reach = lanes_high(s.t_high) * (1.0f + 1e-5f);
+    return bound_rays(iv, end_low, end_high, inv_low, inv_high);
 }
 
 // Bit i: child i is no empty slot. For packets with no bounded box to cull by.

@@ -68,18 +68,6 @@ Bounds3 root_bounds(const bvh::WideBvh& tree, bool at_close) {
     return b;
 }
 
-// The largest magnitude of a coordinate in the tree, at open or at close; 0
-// for an empty tree.
-float coordinate_scale(const bvh::WideBvh& tree) {
-    if (tree.empty()) return 0.0f;
-    float scale = 0.0f;
-    for (bool at_close : {false, true}) {
-        const Bounds3 b = root_bounds(tree, at_close);
-        scale = std::max({scale, max_component(glm::abs(b.min)), max_component(glm::abs(b.max))});
-    }
-    return scale;
-}
-
 // One tree over scene.triangles[first, first + count), in whatever space
 // they are in; adds its sizes to `stats`.
 AccelData build_tree(const Scene& scene, size_t first, size_t count, unsigned threads, AccelStats& stats) {
@@ -123,7 +111,6 @@ AccelData build_tree(const Scene& scene, size_t first, size_t count, unsigned th
     collapse.threads = threads;
     data.bvh = bvh::collapse_to_wide(bvh::build_binned_sah(triangle_bounds, centroids, options), triangle_bounds, collapse);
     if (moving) bvh::refit_motion(data.bvh, open_bounds, close_bounds);
-    data.coordinate_scale = coordinate_scale(data.bvh);
     // The blocks hold scene triangle numbers.
     for (uint32_t& id : data.bvh.prim_ids)
         if (id != bvh::kNoPrim) id += uint32_t(first);

@@ -25,9 +25,6 @@ struct AccelData {
     std::vector<TriangleBlock> blocks_motion;
     bool moving = false;
     bool filtered = false;  // some triangle's material has alpha (MASK or BLEND)
-    // The largest magnitude of a coordinate in the tree, at open or close:
-    // what bounds the rounding of a shadow pyramid's plane products.
-    float coordinate_scale = 0.0f;
 };
 
 // The scene's queries: spheres, then its triangle trees. With instances, a

@@ -113,10 +113,8 @@ template <bool kMoving>
             return packet_box_test(node.lower[0], p.intervals, reach, t_entry);
         }
     };
-    traverse_packet(data.bvh, p, (1u << p.count) - 1, intervals, [&](uint32_t first_block,
-                                                                                          uint32_t block_count,
-                                                                                          uint32_t in) {
-
+    traverse_packet(data.bvh, p, (1u << p.count) - 1, intervals, [&](uint32_t first_block, uint32_t block_count,
+                                                                     uint32_t in) {
         prefetch_blocks<kMoving>(data, bvh::ChildRef::leaf(first_block, block_count));
         if (const uint32_t by_triangle = rays_by_triangle(shear, in)) {
             leaf_by_triangle<kMoving>(data, p, shear, first_block, block_count, by_triangle,
@@ -197,12 +195,13 @@ template <bool kMoving>
         }, leaf_test, single_test);
     };
     if (load == PacketLoad::intervals) return by_intervals(p.intervals, packet_reach(p, active));
+    SegmentLanes segments;
+    if (!segment_lanes(segments, p)) return occlude_masked<kMoving>(data.bvh, p, active, occupied_slots, leaf_test, single_test);
     bvh::PacketIntervals reversed;
-    if (float reach; reverse_segments(reversed, reach, p)) return by_intervals(reversed, reach);
-    if (SegmentBox box; make_segment_box(box, p))
-        return occlude_masked<kMoving>(data.bvh, p, active, [&](const float* rows) { return segment_box_test(rows, box); },
-                                       leaf_test, single_test);
-    return occlude_masked<kMoving>(data.bvh, p, active, occupied_slots, leaf_test, single_test);
+    if (float reach; reverse_segments(reversed, reach, segments)) return by_intervals(reversed, reach);
+    const SegmentBox box = segment_box(segments);
+    return occlude_masked<kMoving>(data.bvh, p, active, [&](const float* rows) { return segment_box_test(rows, box); },
+                                   leaf_test, single_test);
 }
 
 bool intersect_packet_with(const AccelScene& accel, const Ray* rays, uint32_t count, Hit* hits) {
