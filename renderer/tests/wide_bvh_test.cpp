@@ -146,6 +146,50 @@ TEST(WideBvh, TheTreeIsTheSameForAnyThreadCount) {
         EXPECT_EQ(std::memcmp(&one.wide.nodes[i], &two.wide.nodes[i], sizeof(bvh::WideNode)), 0) << "node " << i;
 }
 
+// A moving tree pads the boxes of children that move, against the rounding of
+// their interpolation, and leaves those where nothing moves exact and still,
+// so that rays leaving a still surface (a floor under a moving mesh) do not
+// enter its leaf again.
+TEST(WideBvh, MotionPadsOnlyTheChildrenThatMove) {
+    Built built = build_wide(random_soup(2000, 6));
+    std::vector<Bounds3> close = built.bounds;
+    std::vector<uint8_t> moves(close.size(), 0);
+    for (size_t p = 0; p < close.size(); p += 3) {
+        close[p] = {close[p].min + vec3(0.5f, 0.0f, 0.0f), close[p].max + vec3(0.5f, 0.0f, 0.0f)};
+        moves[p] = 1;
+    }
+    bvh::refit_motion(built.wide, built.bounds, close, moves);
+    size_t still_leaves = 0, moving_leaves = 0;
+    for (uint32_t i = 0; i < built.wide.nodes.size(); ++i)
+        for (uint32_t c = 0; c < bvh::kWideWidth; ++c) {
+            const bvh::ChildRef child = built.wide.nodes[i].child[c];
+            if (!child.is_leaf() || child.empty()) continue;
+            Bounds3 open_union, close_union;
+            bool any_moves = false;
+            for (uint32_t k = child.first_block() * bvh::kBlockWidth;
+                 k < (child.first_block() + child.block_count()) * bvh::kBlockWidth; ++k) {
+                const uint32_t id = built.wide.prim_ids[k];
+                if (id == bvh::kNoPrim) continue;
+                open_union.extend(built.bounds[id]);
+                close_union.extend(close[id]);
+                any_moves = any_moves || moves[id];
+            }
+            const Bounds3 at_open = built.wide.nodes[i].child_bounds(c);
+            const Bounds3 at_close = built.wide.child_bounds_at_close(i, c);
+            if (any_moves) {
+                ++moving_leaves;
+                EXPECT_TRUE(contains(at_open, open_union) && at_open.min != open_union.min) << "node " << i;
+                EXPECT_TRUE(contains(at_close, close_union)) << "node " << i;
+            } else {
+                ++still_leaves;
+                EXPECT_TRUE(at_open.min == open_union.min && at_open.max == open_union.max) << "node " << i;
+                EXPECT_TRUE(at_close.min == at_open.min && at_close.max == at_open.max) << "node " << i;
+            }
+        }
+    EXPECT_GT(still_leaves, 0u);
+    EXPECT_GT(moving_leaves, 0u);
+}
+
 // The four-lane test against the scalar one, lane by lane, bit for bit: on
 // rays through random points and exactly through shared edges and vertices,
 // where the scalar test's double-precision tie-break decides.

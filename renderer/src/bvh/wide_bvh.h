@@ -72,8 +72,12 @@ struct WideBvh {
 
 // Gives a tree over primitives that move linearly its boxes at shutter open
 // (in nodes) and close (in close), from each primitive's box at open and at
-// close. The boxes are widened by a bound on the rounding of the
-// interpolation, so the interpolated box never misses a vertex by an ulp.
-void refit_motion(WideBvh& bvh, std::span<const Bounds3> open, std::span<const Bounds3> close);
+// close; `moves[p]` says whether some point of primitive p moves. The box of
+// a child that holds a moving primitive is widened by a bound on the
+// rounding of the interpolation, so the interpolated box never misses a
+// vertex by an ulp. A child where nothing moves keeps its exact box, which
+// the interpolation leaves as it is, as it leaves its vertices.
+void refit_motion(WideBvh& bvh, std::span<const Bounds3> open, std::span<const Bounds3> close,
+                  std::span<const uint8_t> moves);
 
 }  // namespace rt::bvh

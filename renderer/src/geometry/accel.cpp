@@ -85,7 +85,8 @@ AccelData build_tree(const Scene& scene, size_t first, size_t count, unsigned th
     const bool moving = triangles_move(scene, first, count);
     std::vector<Bounds3> triangle_bounds(count), open_bounds, close_bounds;
     std::vector<vec3> centroids(count);
-    if (moving) open_bounds.resize(count), close_bounds.resize(count);
+    std::vector<uint8_t> triangle_moves;
+    if (moving) open_bounds.resize(count), close_bounds.resize(count), triangle_moves.resize(count);
     parallel_runs(threads, count, kMinTrianglesPerThread, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
             const uvec3 tri = scene.triangles[first + i];
@@ -93,7 +94,10 @@ AccelData build_tree(const Scene& scene, size_t first, size_t count, unsigned th
             for (int k = 0; k < 3; ++k) b.extend(scene.positions[tri[k]]);
             if (moving) {
                 open_bounds[i] = b;
-                for (int k = 0; k < 3; ++k) close_bounds[i].extend(scene.positions_close[tri[k]]);
+                for (int k = 0; k < 3; ++k) {
+                    close_bounds[i].extend(scene.positions_close[tri[k]]);
+                    triangle_moves[i] |= scene.positions[tri[k]] != scene.positions_close[tri[k]];
+                }
                 b = {0.5f * (b.min + close_bounds[i].min), 0.5f * (b.max + close_bounds[i].max)};
             }
             triangle_bounds[i] = b;
@@ -110,7 +114,7 @@ AccelData build_tree(const Scene& scene, size_t first, size_t count, unsigned th
     collapse.node_cost = kCollapseNodeCost;
     collapse.threads = threads;
     data.bvh = bvh::collapse_to_wide(bvh::build_binned_sah(triangle_bounds, centroids, options), triangle_bounds, collapse);
-    if (moving) bvh::refit_motion(data.bvh, open_bounds, close_bounds);
+    if (moving) bvh::refit_motion(data.bvh, open_bounds, close_bounds, triangle_moves);
     // The blocks hold scene triangle numbers.
     for (uint32_t& id : data.bvh.prim_ids)
         if (id != bvh::kNoPrim) id += uint32_t(first);
@@ -147,6 +151,7 @@ bvh::WideBvh build_top(const AccelScene& accel, unsigned threads) {
     const Scene& scene = *accel.scene;
     std::vector<uint32_t> entries;
     std::vector<Bounds3> open, close;
+    std::vector<uint8_t> moves;
     std::vector<Bounds3> local(accel.meshes.size());
     for (size_t m = 0; m < accel.meshes.size(); ++m) local[m] = root_bounds(accel.meshes[m].bvh, false);
     bool moving = false;
@@ -154,6 +159,7 @@ bvh::WideBvh build_top(const AccelScene& accel, unsigned threads) {
         entries.push_back(AccelScene::kWorldEntry);
         open.push_back(root_bounds(accel.world.bvh, false));
         close.push_back(root_bounds(accel.world.bvh, true));
+        moves.push_back(accel.world.moving);
         moving = accel.world.moving;
     }
     for (uint32_t i = 0; i < scene.instances.size(); ++i) {
@@ -163,6 +169,7 @@ bvh::WideBvh build_top(const AccelScene& accel, unsigned threads) {
         entries.push_back(i);
         open.push_back(instance.to_world.box(b));
         close.push_back(instance.to_world_close.box(b));
+        moves.push_back(instance.moving);
         moving = moving || instance.moving;
     }
     std::vector<Bounds3> boxes(open.size());
@@ -179,7 +186,7 @@ bvh::WideBvh build_top(const AccelScene& accel, unsigned threads) {
     collapse.max_leaf_prims = 1;
     collapse.threads = threads;
     bvh::WideBvh top = bvh::collapse_to_wide(bvh::build_binned_sah(boxes, centroids, options), boxes, collapse);
-    if (moving) bvh::refit_motion(top, open, close);
+    if (moving) bvh::refit_motion(top, open, close, moves);
     for (uint32_t& id : top.prim_ids)
         if (id != bvh::kNoPrim) id = entries[id];
     return top;
