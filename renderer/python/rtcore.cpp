@@ -83,6 +83,8 @@ NB_MODULE(rtcore, m) {
           "reads it (field names and types), for Scene.complete to finish.");
     m.def("aux_channel_count", [](const std::string& name) { return rt::aux_channel_count(rt::parse_aux_output(name)); },
           "name"_a, "Values per pixel of an auxiliary layer ('depth': 1, 'normal': 3, ...), as render_tile returns it.");
+    m.def("aux_channel_names", [](const std::string& name) { return rt::aux_channel_names(rt::parse_aux_output(name)); },
+          "name"_a, "The channels of an auxiliary layer as the EXR names them ('depth': ['depth.Z'], ...).");
     rtcore::bind_images(m);
     m.def("set_render_threads", &rt::set_render_threads, "threads"_a,
           "Sizes the pool of threads Scene.render_tile renders on (0: all cores); renders already running "

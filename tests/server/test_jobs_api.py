@@ -178,6 +178,8 @@ def test_cancel_stops_a_running_job_within_a_second(client, dragon_id):
     time.sleep(0.5)
     assert client.get(f"/api/jobs/{job['id']}").json()["tiles_done"] == after["tiles_done"]
     assert client.get(f"/api/jobs/{job['id']}/image.png").status_code == 409
+    refused = client.get(f"/api/jobs/{job['id']}/layers/color")
+    assert refused.status_code == 409 and "cancelled" in refused.json()["detail"]
     assert read_stream(client, job["id"])[-1].end.state == job_pb2.CANCELLED
 
 

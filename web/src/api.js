@@ -2,7 +2,7 @@
 // a refused request throws an ApiError carrying the server's own words.
 // A server started with RT_API_TOKEN answers 401 until the viewer sends the
 // token: the user is asked for it once, and it is kept in this browser.
-import { parseJson, toJsonBody } from "./proto.js";
+import { parseBinary, parseJson, toJsonBody } from "./proto.js";
 
 const TOKEN_KEY = "rt-api-token";
 let token = localStorage.getItem(TOKEN_KEY) ?? "";
@@ -61,6 +61,23 @@ async function request(method, path, body, retried = false) {
     throw problem(response.status, await response.text(), `${method} ${path}: HTTP ${response.status}`);
   }
   return response.status === 204 ? null : response.json();
+}
+
+/** GET of a binary answer (serialized proto) as bytes; refusals as request() throws them. */
+async function requestBytes(path, retried = false) {
+  let response;
+  try {
+    response = await fetch(path, { headers: authHeaders() });
+  } catch (e) {
+    throw new ApiError(`cannot reach the server (${e.message})`, 0);
+  }
+  if (response.status === 401 && !retried) {
+    const refused = problem(401, await response.text(), "this server needs an API token");
+    if (askForToken(refused.message)) return requestBytes(path, true);
+    throw refused;
+  }
+  if (!response.ok) throw problem(response.status, await response.text(), `GET ${path}: HTTP ${response.status}`);
+  return new Uint8Array(await response.arrayBuffer());
 }
 
 export async function listScenes() {
@@ -128,6 +145,22 @@ export async function cancelJob(id) {
 /** Address of a finished job's image: "image" or an auxiliary output's name, .png or .exr. */
 export const jobImageUrl = (jobId, name = "image", ext = "png") =>
   withToken(`/api/jobs/${encodeURIComponent(jobId)}/${name}.${ext}`);
+
+/**
+ * A done job's linear layer ("color" or an auxiliary output's name) as
+ * {name, width, height, channels: [EXR channel names], values: Float32Array},
+ * the pixels row by row from the top, channels interleaved.
+ */
+export async function jobLayer(jobId, name) {
+  const layer = parseBinary("Layer", await requestBytes(`/api/jobs/${encodeURIComponent(jobId)}/layers/${name}`));
+  const [height, width, count = 1] = layer.shape;
+  if (layer.dtype !== "<f4" || layer.data.byteLength !== width * height * count * 4 || layer.channels.length !== count) {
+    throw new ApiError(`layer ${name}: ${layer.shape.join("x")} ${layer.dtype} does not match its ${layer.data.byteLength} bytes`, 0);
+  }
+  // A copy: the bytes may sit at an offset a Float32Array cannot view. Little-endian, as every browser's CPU.
+  const values = new Float32Array(layer.data.slice().buffer);
+  return { name, width, height, channels: layer.channels, values };
+}
 
 /** The colour ramp of the BVH cost heat map, low to high, as the server draws it. */
 export const heatRampUrl = () => withToken("/api/jobs/legends/bvh_cost.png");

@@ -5,6 +5,7 @@ import { getScene, health, modelUrl, submitJob } from "./api.js";
 import { cameraToView, viewToCamera } from "./camera-sync.js";
 import { DebugPanel } from "./debug-panel.js";
 import { ImageLayers } from "./heatmap.js";
+import { ImageWorkspace } from "./image-workspace.js";
 import { isFinal, JobFollower } from "./job-follower.js";
 import { JobPanel, stateOf } from "./job-panel.js";
 import { ProjectionControl } from "./projection-control.js";
@@ -14,6 +15,7 @@ import { SettingsPanel } from "./settings-panel.js";
 import { ShutterPose } from "./shutter-pose.js";
 import { ImageOverlay, RunningTiles } from "./tile-outlines.js";
 import { TileView } from "./tiles.js";
+import { ViewSwitch } from "./view-switch.js";
 import { Viewer } from "./viewer.js";
 
 const $ = (id) => document.getElementById(id);
@@ -27,6 +29,8 @@ const follower = new JobFollower(tiles);
 const overlay = new ImageOverlay($("image-overlay"));
 const layers = new ImageLayers($("layer-buttons"), $("layer-image"), $("heat-legend"));
 const debug = new DebugPanel(viewer, tiles, overlay);
+const image = new ImageWorkspace(tiles, debug);
+const views = new ViewSwitch(document);
 const router = new Router();
 const cameraSelect = $("scene-camera");
 const shutter = new ShutterPose(document, viewer);
@@ -155,6 +159,7 @@ function showJob(job) {
   jobPanel.show(job);
   const done = stateOf(job) === "DONE";
   layers.setJob(job, done);
+  image.setJob(job, done);
   debug.setJob(job);
   if (isFinal(job)) overlay.setRunning([]);
 }
@@ -241,5 +246,7 @@ async function start() {
 }
 
 // For the console and the browser tests: the live objects, read-only by convention.
-window.rt = { viewer, settings, projection, shutter, scenes, jobPanel, tiles, follower, overlay, layers, debug, router, state };
+window.rt = {
+  viewer, settings, projection, shutter, scenes, jobPanel, tiles, follower, overlay, layers, debug, image, views, router, state,
+};
 start();

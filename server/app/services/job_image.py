@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import rtcore
 from PIL import Image
+from rt import job_pb2
 
 from . import layer_files
 
@@ -109,3 +110,18 @@ def output_file(folder: Path, filename: str, settings: bytes) -> Path:
         partial.write_bytes(png_bytes(picture))
     partial.replace(path)
     return path
+
+
+def layer_message(folder: Path, name: str) -> bytes:
+    """A done job's linear layer, whole, as a serialized rt.Layer of float32
+    with its channels' EXR names: what the viewer's image view reads, the
+    values of image.exr without an EXR parser in the browser. Raises
+    FileNotFoundError when the job has no such layer."""
+    if name not in layer_files.names(folder):
+        raise FileNotFoundError(folder / name)
+    values = np.ascontiguousarray(layer_files.load(folder, name), dtype="<f4")
+    if values.ndim == 2:
+        values = values[..., None]
+    channels = ["R", "G", "B"] if name == "color" else rtcore.aux_channel_names(name)
+    return job_pb2.Layer(name=name, shape=values.shape, dtype=values.dtype.str, data=values.tobytes(),
+                         channels=channels).SerializeToString()

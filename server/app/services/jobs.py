@@ -28,7 +28,7 @@ from ..core.proto import normalize
 from . import layer_files
 from .cluster import RenderCluster
 from .errors import Conflict, Invalid, NotFound
-from .job_image import bloom_layers, output_file, read_rgba
+from .job_image import bloom_layers, layer_message, output_file, read_rgba
 from .job_store import JobStore
 from .scene_store import SceneStore, StoredScene
 from .streams import TileStream
@@ -166,6 +166,17 @@ class JobManager:
                 pass  # the stream still ends with the record
         for message in final_image_stream(job, rgba):
             yield message
+
+    async def layer(self, job: job_pb2.Job, name: str) -> bytes:
+        """A done job's linear layer as a serialized rt.Layer: Conflict while
+        the job is not done, NotFound when it has no such layer."""
+        if job.state != job_pb2.DONE:
+            raise Conflict(f"job '{job.id}' is {job_pb2.JobState.Name(job.state).lower()}: "
+                           "its layers exist once it is done")
+        try:
+            return await asyncio.to_thread(layer_message, self.folder(job.id), name)
+        except FileNotFoundError:
+            raise NotFound(f"job '{job.id}' has no {name} layer (ask for it in the request's outputs)") from None
 
     async def output_file(self, job_id: str, filename: str) -> Path:
         """A done job's image.png, image.exr or <layer>.png, made when first

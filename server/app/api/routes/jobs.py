@@ -1,5 +1,5 @@
-"""/api/jobs: submit, list, show, cancel, the finished images, and the live tile
-stream over WebSocket."""
+"""/api/jobs: submit, list, show, cancel, the finished images and linear
+layers, and the live tile stream over WebSocket."""
 
 from __future__ import annotations
 
@@ -18,6 +18,7 @@ from ..deps import job_or_404, jobs, proto_json
 router = APIRouter(prefix="/api/jobs", tags=["jobs"])
 
 IMAGE_NAMES = ("image",) + tuple(AUX_CHANNELS)
+LAYER_NAMES = ("color",) + tuple(AUX_CHANNELS)
 HEAT_RAMP_PNG = heat_ramp_png()
 
 
@@ -66,6 +67,15 @@ async def job_png(job_id: str, name: str, manager: JobManager = Depends(jobs)):
         raise NotFound(f"no image named '{name}.png' (one of: {', '.join(IMAGE_NAMES)})")
     path = await manager.finished_file(job_or_404(manager, job_id), f"{name}.png")
     return FileResponse(path, media_type="image/png")
+
+
+@router.get("/{job_id}/layers/{name}", response_class=Response,
+            responses={200: {"content": {"application/x-protobuf": {}},
+                             "description": "A serialized rt.Layer: the layer's linear float32 values, whole"}})
+async def job_layer(job_id: str, name: str, manager: JobManager = Depends(jobs)):
+    if name not in LAYER_NAMES:
+        raise NotFound(f"no layer named '{name}' (one of: {', '.join(LAYER_NAMES)})")
+    return Response(await manager.layer(job_or_404(manager, job_id), name), media_type="application/x-protobuf")
 
 
 @router.websocket("/{job_id}/tiles")
