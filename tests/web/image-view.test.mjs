@@ -4,7 +4,8 @@
 // holds image.exr's floats (read here by tests/web/exr.mjs, not by the
 // viewer's code); exposure, tone map, channel and false colour change it
 // without a new job; a Shift-dragged rectangle's statistics are the EXR's;
-// a click traces the pixel in the debugger.
+// a click traces the pixel in the debugger; the wipe lays the render over the
+// 3D view at the job's camera.
 import assert from "node:assert/strict";
 import { after, before, describe, test } from "node:test";
 import { ARTIFACTS, launch, openPage, screenshot } from "./browser.mjs";
@@ -215,6 +216,54 @@ describe("image view", { timeout: 150_000 }, () => {
     assert.deepEqual(await page.evaluate(() => window.rt.debug.pixel), [x, y]);
     await page.keyboard.press("v");
     assert.equal(await page.locator("#viewport").isVisible(), true, "V goes back to the 3D view");
+  });
+
+  test("the wipe lays the render over the 3D view from the job's camera: 3D left of the handle, render right", async () => {
+    await page.click("#show-wipe");
+    await page.waitForFunction(() => !document.querySelector("#wipe-handle").hidden);
+    assert.equal(await page.locator("#viewport").isVisible(), true);
+    const camera = await page.evaluate(() => {
+      const { viewer, state } = window.rt;
+      return { view: viewer.camera.position.toArray(), job: Array.from(state.job.request.camera.position) };
+    });
+    camera.view.forEach((v, i) => assert.ok(Math.abs(v - camera.job[i]) < 1e-4, `3D camera at the job's (${camera.view})`));
+    const offBy = await page.evaluate(() => {
+      const { image, viewer } = window.rt;
+      const v = image.view;
+      const mine = v.canvas.getBoundingClientRect();
+      const theirs = viewer.renderer.domElement.getBoundingClientRect();
+      return [mine.left + v.offset[0] - theirs.left, mine.top + v.offset[1] - theirs.top,
+        v.scale * v.width - theirs.width, v.scale * v.height - theirs.height];
+    });
+    // Within half a pixel: the 3D canvas rounds its height to whole pixels.
+    for (const d of offBy) assert.ok(Math.abs(d) <= 0.5, `the render lies on the 3D canvas (${offBy})`);
+    const frame = await page.locator("#viewport canvas").boundingBox();
+    const handle = await page.locator("#wipe-handle").boundingBox();
+    const middle = frame.y + frame.height / 2;
+    await page.mouse.move(handle.x + handle.width / 2, middle);
+    await page.mouse.down();
+    await page.mouse.move(frame.x + 0.3 * frame.width, middle, { steps: 4 });
+    await page.mouse.up();
+    const fraction = await page.evaluate(() => window.rt.wipe.fraction);
+    assert.ok(Math.abs(fraction - 0.3) < 0.01, `the handle followed the drag (${fraction})`);
+    await page.waitForTimeout(50);
+    const sides = await page.evaluate(([line, middle]) => {
+      const { view, display } = window.rt.image;
+      const rect = view.canvas.getBoundingClientRect();
+      const at = (x) => Array.from(view.canvas.getContext("2d")
+        .getImageData(Math.round(x - rect.left), Math.round(middle - rect.top), 1, 1).data);
+      const source = (x) => {
+        const px = Math.floor((x - rect.left - view.offset[0]) / view.scale);
+        const py = Math.floor((middle - rect.top - view.offset[1]) / view.scale);
+        return Array.from(display.getContext("2d").getImageData(px, py, 1, 1).data);
+      };
+      return { left: at(line - 12), right: at(line + 12), rightSource: source(line + 12) };
+    }, [frame.x + 0.3 * frame.width, middle]);
+    assert.equal(sides.left[3], 0, "left of the handle the 3D view shows through");
+    assert.deepEqual(sides.right, sides.rightSource, "right of it, the render's pixel");
+    await screenshot(page, "image-view-wipe");
+    await page.click("#show-image");
+    assert.equal(await page.locator("#wipe-handle").isHidden(), true);
   });
 
   test("no console errors", () => {

@@ -23,6 +23,8 @@ export class ImageView extends EventTarget {
     this.fitted = true; // refit when the canvas or the image changes size
     this.selection = null;
     this.marker = null;
+    this.frame = null; // an element the image is laid over exactly (the wipe's 3D view), or null
+    this.wipe = null; // CSS pixels from the left where the image starts showing, or null: all of it
     this._frame = null;
     this._drag = null;
     new ResizeObserver(() => this._resize()).observe(canvas);
@@ -57,6 +59,14 @@ export class ImageView extends EventTarget {
     const [w, h] = this._cssSize;
     this.fitted = true;
     if (!this.width || !w || !h) return this.invalidate();
+    if (this.frame) {
+      // Over the frame's own pixels: the 3D view at the job's camera has the image's aspect.
+      const mine = this.canvas.getBoundingClientRect();
+      const theirs = this.frame.getBoundingClientRect();
+      this.scale = theirs.width / this.width;
+      this.offset = [theirs.left - mine.left, theirs.top - mine.top];
+      return this._zoomed();
+    }
     this.scale = Math.min(w / this.width, h / this.height);
     this.offset = [(w - this.width * this.scale) / 2, (h - this.height * this.scale) / 2];
     this._zoomed();
@@ -93,6 +103,16 @@ export class ImageView extends EventTarget {
     return x >= 0 && y >= 0 && x < this.width && y < this.height ? [x, y] : null;
   }
 
+  /**
+   * Lays the image exactly over `element` (null: back to zoom and pan), and
+   * shows it only right of `wipe` CSS pixels from the canvas's left (null: all).
+   */
+  setWipe(element, wipe) {
+    this.frame = element;
+    this.wipe = element ? wipe : null;
+    this.fit();
+  }
+
   /** Marks a pixel (the one the debugger traced), or nothing. */
   setMarker(pixel) {
     this.marker = pixel;
@@ -126,10 +146,17 @@ export class ImageView extends EventTarget {
     ctx.setTransform(1, 0, 0, 1, 0, 0);
     ctx.clearRect(0, 0, this.canvas.width, this.canvas.height);
     if (!this.source || !this.width) return;
+    ctx.save();
+    if (this.wipe !== null) {
+      ctx.beginPath();
+      ctx.rect(dpr * this.wipe, 0, this.canvas.width, this.canvas.height);
+      ctx.clip();
+    }
     ctx.setTransform(dpr * this.scale, 0, 0, dpr * this.scale, dpr * this.offset[0], dpr * this.offset[1]);
     // Past 1:1 each texel is a sharp square, as tev shows them.
     ctx.imageSmoothingEnabled = this.scale < 1;
     ctx.drawImage(this.source, 0, 0, this.width, this.height);
+    ctx.restore();
     ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
     ctx.lineWidth = 1;
     if (this.selection) {

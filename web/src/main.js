@@ -17,6 +17,7 @@ import { ImageOverlay, RunningTiles } from "./tile-outlines.js";
 import { TileView } from "./tiles.js";
 import { ViewSwitch } from "./view-switch.js";
 import { Viewer } from "./viewer.js";
+import { Wipe } from "./wipe.js";
 
 const $ = (id) => document.getElementById(id);
 
@@ -31,6 +32,12 @@ const layers = new ImageLayers($("layer-buttons"), $("layer-image"), $("heat-leg
 const debug = new DebugPanel(viewer, tiles, overlay);
 const image = new ImageWorkspace(tiles, debug);
 const views = new ViewSwitch(document);
+const wipe = new Wipe(image.view, viewer.renderer.domElement, $("wipe-handle"));
+views.addEventListener("change", (e) => {
+  // The wipe compares the render with the 3D view from the job's own camera.
+  if (e.detail === "wipe" && state.job) cameraToView(viewer, state.job.request.camera, settings.defaultFov);
+  wipe.enable(e.detail === "wipe");
+});
 const router = new Router();
 const cameraSelect = $("scene-camera");
 const shutter = new ShutterPose(document, viewer);
@@ -247,6 +254,6 @@ async function start() {
 
 // For the console and the browser tests: the live objects, read-only by convention.
 window.rt = {
-  viewer, settings, projection, shutter, scenes, jobPanel, tiles, follower, overlay, layers, debug, image, views, router, state,
+  viewer, settings, projection, shutter, scenes, jobPanel, tiles, follower, overlay, layers, debug, image, views, wipe, router, state,
 };
 start();

@@ -1,28 +1,32 @@
-// The main area shows the 3D view or the render; the tab key "v" switches.
-// Each keeps its own toolbar; the 3D view keeps its camera while hidden.
+// The main area shows the 3D view, the render, or the render wiped over the
+// 3D view; the key "v" goes between the first two. Each keeps its own
+// toolbar; the 3D view keeps its camera while hidden.
 
 export class ViewSwitch extends EventTarget {
   constructor(doc) {
     super();
-    this.buttons = { "3d": doc.getElementById("show-3d"), image: doc.getElementById("show-image") };
+    const $ = (id) => doc.getElementById(id);
+    this.buttons = { "3d": $("show-3d"), image: $("show-image"), wipe: $("show-wipe") };
     this.panes = {
-      "3d": [doc.getElementById("viewport"), doc.getElementById("debug-toolbar")],
-      image: [doc.getElementById("image-view"), doc.getElementById("image-tools")],
+      "3d": [$("viewport"), $("debug-toolbar")],
+      image: [$("image-view"), $("image-tools")],
+      wipe: [$("viewport"), $("image-view"), $("image-tools")],
     };
+    this.imageView = $("image-view");
     this.current = "3d";
     for (const [name, button] of Object.entries(this.buttons)) button.addEventListener("click", () => this.show(name));
     doc.addEventListener("keydown", (e) => {
       const typing = e.target.closest?.("input, select, textarea");
-      if (e.key === "v" && !typing && !e.ctrlKey && !e.metaKey && !e.altKey) this.show(this.current === "3d" ? "image" : "3d");
+      if (e.key === "v" && !typing && !e.ctrlKey && !e.metaKey && !e.altKey) this.show(this.current === "image" ? "3d" : "image");
     });
   }
 
   show(name) {
     this.current = name;
-    for (const [pane, elements] of Object.entries(this.panes)) {
-      for (const element of elements) element.hidden = pane !== name;
-      this.buttons[pane].setAttribute("aria-pressed", String(pane === name));
-    }
+    const shown = new Set(this.panes[name]);
+    for (const element of Object.values(this.panes).flat()) element.hidden = !shown.has(element);
+    for (const [pane, button] of Object.entries(this.buttons)) button.setAttribute("aria-pressed", String(pane === name));
+    this.imageView.classList.toggle("wipe", name === "wipe");
     this.dispatchEvent(new CustomEvent("change", { detail: name }));
   }
 }
