@@ -25,7 +25,7 @@ from rt import job_pb2
 
 from ..core.config import Settings
 from ..core.proto import normalize
-from . import layer_files
+from . import comparisons, layer_files
 from .cluster import RenderCluster
 from .errors import Conflict, Invalid, NotFound
 from .job_image import bloom_layers, layer_message, output_file, read_rgba
@@ -140,9 +140,7 @@ class JobManager:
     async def finished_file(self, job: job_pb2.Job, filename: str) -> Path:
         """output_file for a request: Conflict while the job is not done,
         NotFound when it has no such layer."""
-        if job.state != job_pb2.DONE:
-            raise Conflict(f"job '{job.id}' is {job_pb2.JobState.Name(job.state).lower()}: "
-                           "its image exists once it is done")
+        self.done_folder(job)
         try:
             return await self.output_file(job.id, filename)
         except FileNotFoundError:
@@ -167,14 +165,30 @@ class JobManager:
         for message in final_image_stream(job, rgba):
             yield message
 
+    def done_folder(self, job: job_pb2.Job) -> Path:
+        """A job's folder, for what exists once it is done: Conflict before."""
+        if job.state != job_pb2.DONE:
+            raise Conflict(f"job '{job.id}' is {job_pb2.JobState.Name(job.state).lower()}: "
+                           "its image exists once it is done")
+        return self.folder(job.id)
+
+    async def compare(self, job: job_pb2.Job, reference: job_pb2.Job,
+                      rect: tuple[int, int, int, int] | None) -> job_pb2.ImageComparison:
+        """The job's image measured against the reference's (comparisons.compare)."""
+        return await asyncio.to_thread(comparisons.compare, self.done_folder(job), self.done_folder(reference),
+                                       job.id, reference.id, rect)
+
+    async def flip_layer(self, job: job_pb2.Job, reference: job_pb2.Job) -> bytes:
+        """The HDR-FLIP map of the job against the reference, as a serialized rt.Layer."""
+        return await asyncio.to_thread(comparisons.flip_layer, self.done_folder(job), self.done_folder(reference),
+                                       job.id, reference.id)
+
     async def layer(self, job: job_pb2.Job, name: str) -> bytes:
         """A done job's linear layer as a serialized rt.Layer: Conflict while
         the job is not done, NotFound when it has no such layer."""
-        if job.state != job_pb2.DONE:
-            raise Conflict(f"job '{job.id}' is {job_pb2.JobState.Name(job.state).lower()}: "
-                           "its layers exist once it is done")
+        folder = self.done_folder(job)
         try:
-            return await asyncio.to_thread(layer_message, self.folder(job.id), name)
+            return await asyncio.to_thread(layer_message, folder, name)
         except FileNotFoundError:
             raise NotFound(f"job '{job.id}' has no {name} layer (ask for it in the request's outputs)") from None
 
