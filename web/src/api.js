@@ -152,7 +152,11 @@ export const jobImageUrl = (jobId, name = "image", ext = "png") =>
  * the pixels row by row from the top, channels interleaved.
  */
 export async function jobLayer(jobId, name) {
-  const layer = parseBinary("Layer", await requestBytes(`/api/jobs/${encodeURIComponent(jobId)}/layers/${name}`));
+  return decodeLayer(name, await requestBytes(`/api/jobs/${encodeURIComponent(jobId)}/layers/${name}`));
+}
+
+function decodeLayer(name, bytes) {
+  const layer = parseBinary("Layer", bytes);
   const [height, width, count = 1] = layer.shape;
   if (layer.dtype !== "<f4" || layer.data.byteLength !== width * height * count * 4 || layer.channels.length !== count) {
     throw new ApiError(`layer ${name}: ${layer.shape.join("x")} ${layer.dtype} does not match its ${layer.data.byteLength} bytes`, 0);
@@ -160,6 +164,19 @@ export async function jobLayer(jobId, name) {
   // A copy: the bytes may sit at an offset a Float32Array cannot view. Little-endian, as every browser's CPU.
   const values = new Float32Array(layer.data.slice().buffer);
   return { name, width, height, channels: layer.channels, values };
+}
+
+/** Job `jobId`'s image measured against `referenceId`'s: rt.ImageComparison, over `rect` ({x, y, w, h}) or all. */
+export async function compareJobs(jobId, referenceId, rect = null) {
+  const query = rect ? `?x=${rect.x}&y=${rect.y}&w=${rect.w}&h=${rect.h}` : "";
+  const path = `/api/jobs/${encodeURIComponent(jobId)}/compare/${encodeURIComponent(referenceId)}${query}`;
+  return parseJson("ImageComparison", await request("GET", path));
+}
+
+/** The HDR-FLIP map of a job against a reference, as jobLayer answers a layer. */
+export async function flipMap(jobId, referenceId) {
+  const path = `/api/jobs/${encodeURIComponent(jobId)}/compare/${encodeURIComponent(referenceId)}/flip`;
+  return decodeLayer("flip", await requestBytes(path));
 }
 
 /** The colour ramp of the BVH cost heat map, low to high, as the server draws it. */

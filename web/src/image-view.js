@@ -25,6 +25,8 @@ export class ImageView extends EventTarget {
     this.marker = null;
     this.frame = null; // an element the image is laid over exactly (the wipe's 3D view), or null
     this.wipe = null; // CSS pixels from the left where the image starts showing, or null: all of it
+    this.second = null; // drawn over the image right of `split` CSS pixels (A | B), or null
+    this.split = 0;
     this._frame = null;
     this._drag = null;
     new ResizeObserver(() => this._resize()).observe(canvas);
@@ -113,6 +115,13 @@ export class ImageView extends EventTarget {
     this.fit();
   }
 
+  /** Shows `source` (the same size as the image) instead of it right of `split` CSS pixels; null: none. */
+  setSecond(source, split) {
+    this.second = source;
+    this.split = split;
+    this.invalidate();
+  }
+
   /** Marks a pixel (the one the debugger traced), or nothing. */
   setMarker(pixel) {
     this.marker = pixel;
@@ -156,6 +165,14 @@ export class ImageView extends EventTarget {
     // Past 1:1 each texel is a sharp square, as tev shows them.
     ctx.imageSmoothingEnabled = this.scale < 1;
     ctx.drawImage(this.source, 0, 0, this.width, this.height);
+    if (this.second) {
+      ctx.setTransform(1, 0, 0, 1, 0, 0);
+      ctx.beginPath();
+      ctx.rect(dpr * this.split, 0, this.canvas.width, this.canvas.height);
+      ctx.clip();
+      ctx.setTransform(dpr * this.scale, 0, 0, dpr * this.scale, dpr * this.offset[0], dpr * this.offset[1]);
+      ctx.drawImage(this.second, 0, 0, this.width, this.height);
+    }
     ctx.restore();
     ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
     ctx.lineWidth = 1;

@@ -3,7 +3,10 @@
 // numbers under the cursor and in a dragged rectangle; a click traces the
 // pixel in the debugger, as a click on the side panel's image does.
 import { jobLayer } from "./api.js";
+import { ComparePanel } from "./compare-panel.js";
 import { displayBytes, viewRange } from "./display.js";
+import { DragHandle } from "./drag-handle.js";
+import { ERROR_KINDS, errorLayer } from "./error-maps.js";
 import { ImageControls } from "./image-controls.js";
 import { ImageView } from "./image-view.js";
 import { PixelReadout } from "./pixel-readout.js";
@@ -24,15 +27,24 @@ export class ImageWorkspace extends EventTarget {
     this.readout = new PixelReadout($("pixel-readout"), $("region-stats"));
     this.status = $("image-view-status");
     this.display = document.createElement("canvas");
+    this.displayB = document.createElement("canvas"); // B beside A in the A | B wipe
+    this.compare = new ComparePanel();
+    this.split = new DragHandle($("compare-handle"), () => this.view.canvas.getBoundingClientRect(),
+      (x) => this.view.second && this.view.setSecond(this.displayB, x));
+    this.shown = null; // the layer the view shows (A's, B's or an error map)
     this.job = null;
     this.layers = null;
     this.hovered = null;
     this._loading = null;
     this.view.addEventListener("hover", (e) => {
       this.hovered = e.detail;
-      this.readout.show(e.detail, !this.layers);
+      this.readout.show(e.detail, !this.layers, this.shown);
     });
-    this.view.addEventListener("select", (e) => this.readout.showStats(e.detail));
+    this.view.addEventListener("select", (e) => {
+      this.readout.showStats(e.detail);
+      this.compare.measure(e.detail).catch((err) => this._say(`The region could not be measured: ${err.message}`));
+    });
+    this.compare.addEventListener("change", () => this._redisplay());
     this.view.addEventListener("pick", (e) => {
       this.view.setMarker(e.detail);
       debug.trace(e.detail);
@@ -83,6 +95,7 @@ export class ImageWorkspace extends EventTarget {
       this.controls.setLayers(this.layers);
       this.readout.setLayers(this.layers);
       this._redisplay();
+      await this.compare.setJob(job);
       this._say("");
       this.dispatchEvent(new Event("layers"));
     } catch (e) {
@@ -93,18 +106,39 @@ export class ImageWorkspace extends EventTarget {
 
   _redisplay() {
     const view = this.controls.view;
-    const layer = this.layers?.get(view.layer);
+    let layer = this.layers?.get(view.layer);
     if (!layer) return;
-    view.range = viewRange(layer, view.channel);
-    this.display.width = layer.width;
-    this.display.height = layer.height;
+    const { compare } = this;
+    const mode = compare.active ? compare.mode : null;
+    const a = this.layers.get("color");
+    if (mode === "flip" && compare.showB) layer = compare.b;
+    else if (mode === "wipe") layer = a;
+    else if (ERROR_KINDS[mode]) layer = errorLayer(mode, a, compare.b);
+    else if (mode === "flip-map" && compare.flip) layer = compare.flip;
+    // Error maps read as numbers: false colour over their range. B's colour,
+    // A's in the wipe and the difference (a colour too) take the colour view's channel.
+    const scalar = Boolean(mode) && !["flip", "wipe", "difference"].includes(mode);
+    const colourChannel = view.layer === "color" ? view.channel : "rgb";
+    const shown = scalar ? { ...view, channel: "0", falseColor: true }
+      : layer === this.layers.get(view.layer) ? { ...view } : { ...view, channel: colourChannel };
+    shown.range = viewRange(layer, shown.channel);
+    this.shown = layer;
+    this._paint(this.display, layer, shown);
+    const wiping = mode === "wipe";
+    if (wiping) this._paint(this.displayB, compare.b, shown);
+    this.controls.drawBar(shown, shown.range);
+    this.view.setSource(this.display, layer.width, layer.height);
+    this.view.setSecond(wiping ? this.displayB : null, 0);
+    this.split.show(wiping);
+    if (this.hovered) this.readout.show(this.hovered, false, layer);
+  }
+
+  _paint(canvas, layer, view) {
+    canvas.width = layer.width;
+    canvas.height = layer.height;
     const image = new ImageData(layer.width, layer.height);
     displayBytes(layer, view, image.data);
-    this.display.getContext("2d").putImageData(image, 0, 0);
-    this.controls.drawBar(view, view.range);
-    this.view.setSource(this.display, layer.width, layer.height);
-    this.view.invalidate();
-    if (this.hovered) this.readout.show(this.hovered);
+    canvas.getContext("2d").putImageData(image, 0, 0);
   }
 
   _say(text) {

@@ -29,8 +29,11 @@ export class PixelReadout {
     this.showStats(null);
   }
 
-  /** The values at pixel [x, y], or a hint when there is none. */
-  show(pixel, streaming = false) {
+  /**
+   * The values at pixel [x, y], or a hint when there is none; `shown`: the
+   * layer the view shows when it is none of the job's (B's colour, an error map).
+   */
+  show(pixel, streaming = false, shown = null) {
     const table = document.createElement("table");
     if (!pixel) {
       this.readout.replaceChildren();
@@ -39,10 +42,12 @@ export class PixelReadout {
     }
     const [x, y] = pixel;
     table.append(row([`(${x}, ${y})`, ""], true));
-    for (const layer of this.layers.values()) {
+    const extra = shown && ![...this.layers.values()].includes(shown) ? [shown] : [];
+    for (const layer of [...extra, ...this.layers.values()]) {
       const o = (y * layer.width + x) * layer.channels.length;
       layer.channels.forEach((name, c) => {
-        const tr = row([name, fmt(layer.values[o + c])]);
+        const tr = row([extra.includes(layer) && layer.channels.length === 3 ? `${layer.name} ${name}` : name,
+          fmt(layer.values[o + c])]);
         tr.dataset.channel = name;
         tr.dataset.value = String(layer.values[o + c]);
         table.append(tr);
