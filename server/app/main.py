@@ -14,7 +14,7 @@ from fastapi.staticfiles import StaticFiles
 
 from .api.errors import add_error_handlers
 from .api.guards import RequestGuards
-from .api.routes import comparisons, health, jobs, scenes
+from .api.routes import comparisons, health, jobs, references, scenes
 from .core.allocator import keep_freed_memory
 from .core.config import Settings, load_settings
 from .core.proto import openapi_components
@@ -48,7 +48,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             await app.state.cluster.close()
 
     app = FastAPI(title="rt", summary="Ray tracing render service", lifespan=lifespan)
-    for router in (health.router, scenes.router, jobs.router, comparisons.router):
+    for router in (health.router, scenes.router, jobs.router, comparisons.router, references.router):
         app.include_router(router)
 
     app.add_middleware(RequestGuards, settings=settings)

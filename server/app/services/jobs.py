@@ -25,9 +25,9 @@ from rt import job_pb2
 
 from ..core.config import Settings
 from ..core.proto import normalize
-from . import comparisons, layer_files
+from . import comparisons, layer_files, references
 from .cluster import RenderCluster
-from .errors import Conflict, Invalid, NotFound
+from .errors import Conflict, Invalid, NotFound, ServiceError
 from .job_image import bloom_layers, layer_message, output_file, read_rgba
 from .job_store import JobStore
 from .scene_store import SceneStore, StoredScene
@@ -231,6 +231,13 @@ class JobManager:
         job.finished_at = time.time()
         self._store.save(job)
 
+    def _mark_reference(self, job: job_pb2.Job) -> None:
+        """A done "Render reference" job becomes its view's reference, unless its scene went meanwhile."""
+        try:
+            references.mark(self._scenes, self, job.request.scene_id, job)
+        except ServiceError as e:
+            log.warning("job %s: not marked as a reference: %s", job.id, e)
+
     # --- running ------------------------------------------------------------
 
     async def _run(self, running: RunningJob) -> None:
@@ -286,6 +293,8 @@ class JobManager:
                 await self._bloom(running, folder, len(passes))
             layer_files.complete(folder)
             self._end(job, job_pb2.DONE)
+            if request.reference:
+                self._mark_reference(job)
         except asyncio.CancelledError as e:
             await self._cluster.stop(run_id, submitted)
             shutdown = "shutdown" in e.args

@@ -137,6 +137,23 @@ class SceneStore:
         shutil.rmtree(self._root / scene_id, ignore_errors=True)
         return True
 
+    def set_references(self, scene_id: str, job_ids: list[str]) -> StoredScene | None:
+        """Replaces the scene's reference jobs, on disk and here; None when the scene is gone."""
+        with self._lock:
+            stored = self._scenes.get(scene_id)
+            if stored is None:
+                return None
+            info = job_pb2.SceneInfo()
+            info.CopyFrom(stored.info)
+            del info.reference_jobs[:]
+            info.reference_jobs.extend(job_ids)
+            path = self._root / scene_id / "scene.json"
+            partial = path.with_suffix(".part")
+            partial.write_text(to_json_text(info))
+            partial.replace(path)
+            stored = self._scenes[scene_id] = StoredScene(info, stored.scene_file, stored.sha256)
+            return stored
+
     def model_glb(self, stored: StoredScene) -> Path:
         """The scene as the renderer sees it, as one GLB, written once."""
         path = self._root / stored.info.id / "model.glb"

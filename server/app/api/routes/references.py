@@ -1,0 +1,37 @@
+"""References: mark a done job as the one its view (scene, camera, size) is
+measured against, unmark it, and the view's jobs as render time against
+error (/api/jobs/{id}/accuracy) for the speed-against-error plot."""
+
+from __future__ import annotations
+
+from fastapi import APIRouter, Depends
+from rt import job_pb2
+
+from ...core.proto import json_response
+from ...services import references
+from ...services.jobs import JobManager
+from ...services.scene_store import SceneStore
+from ..deps import job_or_404, jobs, proto_json, scene_or_404, scenes
+
+router = APIRouter(tags=["references"])
+
+
+@router.put("/api/scenes/{scene_id}/references/{job_id}",
+            responses={200: json_response(job_pb2.SceneInfo, "The scene, the job its view's reference")})
+async def mark_reference(scene_id: str, job_id: str, store: SceneStore = Depends(scenes),
+                         manager: JobManager = Depends(jobs)):
+    scene_or_404(store, scene_id)
+    return proto_json(references.mark(store, manager, scene_id, job_or_404(manager, job_id)))
+
+
+@router.delete("/api/scenes/{scene_id}/references/{job_id}",
+               responses={200: json_response(job_pb2.SceneInfo, "The scene, without that reference")})
+async def unmark_reference(scene_id: str, job_id: str, store: SceneStore = Depends(scenes)):
+    scene_or_404(store, scene_id)
+    return proto_json(references.unmark(store, scene_id, job_id))
+
+
+@router.get("/api/jobs/{job_id}/accuracy",
+            responses={200: json_response(job_pb2.AccuracyPlot, "The view's done jobs against its reference")})
+async def accuracy(job_id: str, store: SceneStore = Depends(scenes), manager: JobManager = Depends(jobs)):
+    return proto_json(await references.accuracy(store, manager, job_or_404(manager, job_id)))
