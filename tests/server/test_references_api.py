@@ -46,7 +46,7 @@ def test_the_views_jobs_are_points_of_time_against_error(client, cornell_id, vie
     assert points[b["id"]]["error"]["rmse"] < points[a["id"]]["error"]["rmse"], "4 spp is nearer 32 than 1 is"
     assert [p["job_id"] for p in plot["points"]].index(a["id"]) < [p["job_id"] for p in plot["points"]].index(b["id"])
     missing = client.get(f"/api/jobs/{other_size['id']}/accuracy")
-    assert missing.status_code == 404 and "no reference" in missing.json()["detail"]
+    assert missing.status_code == 200 and missing.json() == {"reference_id": "", "points": []}, "no reference: empty"
 
 
 def test_marking_another_job_of_the_view_replaces_its_reference_and_is_kept_on_disk(client, cornell_id, view):
@@ -79,3 +79,17 @@ def test_a_job_of_another_scene_or_an_unknown_one_is_refused(client, cornell_id,
     assert wrong.status_code == 409 and "not" in wrong.json()["detail"]
     assert client.put(f"/api/scenes/{cornell_id}/references/nojob").status_code == 404
     assert client.put(f"/api/scenes/noscene/references/{a['id']}").status_code == 404
+
+
+def test_a_camera_a_few_ulps_away_is_the_same_view_and_a_moved_one_is_not(client, cornell_id, view):
+    _, a, _, _ = view
+    nudged = {**CAMERA, "position": [0.1 + 1e-6, 1.0, 3.2 - 1e-6]}
+    same = client.post("/api/jobs", json={"scene_id": cornell_id, "camera": nudged,
+                                          "settings": {"width": 40, "height": 30}}).json()
+    assert wait_for(client, same["id"])["state"] == "DONE"
+    plot = client.get(f"/api/jobs/{same['id']}/accuracy").json()
+    assert same["id"] in {p["job_id"] for p in plot["points"]} and a["id"] in {p["job_id"] for p in plot["points"]}
+    moved = client.post("/api/jobs", json={"scene_id": cornell_id, "camera": {**CAMERA, "position": [0.3, 1.0, 3.2]},
+                                           "settings": {"width": 40, "height": 30}}).json()
+    assert wait_for(client, moved["id"])["state"] == "DONE"
+    assert client.get(f"/api/jobs/{moved['id']}/accuracy").json()["reference_id"] == ""

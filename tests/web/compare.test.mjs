@@ -2,7 +2,9 @@
 // against itself gives all-zero error maps and zero metrics; the metrics are
 // the server's (flip-evaluator, as make charts), for the image and a dragged
 // rectangle; the error maps are the EXRs' differences (read by the test's own
-// decoder); the wipe shows A left of the handle and B right; X flips.
+// decoder); the wipe shows A left of the handle and B right; X flips;
+// "Render reference" makes the view's reference, and the view's jobs are
+// plotted as time against error; marking another job replaces it.
 import assert from "node:assert/strict";
 import { after, before, describe, test } from "node:test";
 import { ARTIFACTS, launch, openPage, screenshot } from "./browser.mjs";
@@ -172,6 +174,46 @@ describe("compare", { timeout: 200_000 }, () => {
     assert.deepEqual(await shownRed(), red("b"));
     await page.keyboard.press("x");
     assert.deepEqual(await shownRed(), red("a"));
+  });
+
+  test("Render reference makes the view's reference; its jobs are plotted as time against error", async () => {
+    const scene = (await (await api("/api/scenes")).json()).scenes.find((x) => x.name === "cornell.obj");
+    const before = page.url();
+    await page.click("#render-reference");
+    await page.waitForURL((url) => url.href !== before && /\/jobs\/[0-9a-f]+$/.test(url.href), { timeout: 15_000 });
+    const referenceId = page.url().split("/").pop();
+    await page.waitForFunction(() => window.rt.state.job?.state === 3, null, { timeout: 120_000 }); // DONE
+    const made = await (await api(`/api/jobs/${referenceId}`)).json();
+    assert.equal(made.request.reference, true);
+    assert.equal(made.request.interactive, false, "a batch job");
+    assert.equal(made.request.settings.samples_per_pixel, 1024);
+    assert.ok(made.request.settings.adaptive_threshold > 0, "adaptive");
+    await page.waitForFunction(() => /reference/.test(document.querySelector("#reference-status").textContent)
+      && document.querySelector("#reference-status").dataset.reference, null, { timeout: 60_000 });
+    assert.ok((await (await api(`/api/scenes/${scene.id}`)).json()).reference_jobs.includes(referenceId));
+
+    await page.goto(`/jobs/${jobs.a}`);
+    await page.waitForFunction(() => /^Against reference/.test(document.querySelector("#reference-status").textContent),
+      null, { timeout: 60_000 });
+    const plot = await (await api(`/api/jobs/${jobs.a}/accuracy`)).json();
+    assert.equal(plot.reference_id, referenceId, "the rendered reference is the view's");
+    const mine = plot.points.find((p) => p.job_id === jobs.a);
+    const status = await page.textContent("#reference-status");
+    assert.ok(status.includes(`mean FLIP ${Number(mine.error.mean_flip.toPrecision(4))}`), status);
+    const dots = await page.$$eval("#accuracy-plot circle", (cs) => cs.map((c) => ({ job: c.dataset.job,
+      current: c.classList.contains("current"), title: c.querySelector("title").textContent })));
+    assert.deepEqual(dots.map((d) => d.job).sort(), plot.points.map((p) => p.job_id).sort());
+    assert.ok(dots.find((d) => d.job === jobs.a).current, "the open job is ringed");
+    assert.match(dots.find((d) => d.job === jobs.b).title, /16 spp/);
+    await screenshot(page, "compare-reference-plot");
+    await page.click(`#accuracy-plot circle[data-job="${jobs.b}"]`);
+    await page.waitForURL((url) => url.pathname === `/jobs/${jobs.b}`);
+    await page.waitForFunction(() => !document.querySelector("#reference-mark").disabled
+      && /^Against reference/.test(document.querySelector("#reference-status").textContent), null, { timeout: 60_000 });
+    await page.click("#reference-mark");
+    await page.waitForFunction(() => /is its view's reference/.test(document.querySelector("#reference-status").textContent));
+    const references = (await (await api(`/api/scenes/${scene.id}`)).json()).reference_jobs;
+    assert.ok(references.includes(jobs.b) && !references.includes(referenceId), "marking B replaced the view's reference");
   });
 
   test("no console errors", () => {

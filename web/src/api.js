@@ -179,6 +179,17 @@ export async function flipMap(jobId, referenceId) {
   return decodeLayer("flip", await requestBytes(path));
 }
 
+/** Marks a done job as its view's reference; answers the scene's rt.SceneInfo. */
+export async function markReference(sceneId, jobId) {
+  const path = `/api/scenes/${encodeURIComponent(sceneId)}/references/${encodeURIComponent(jobId)}`;
+  return parseJson("SceneInfo", await request("PUT", path));
+}
+
+/** The job's view's done jobs against its reference (rt.AccuracyPlot; no referenceId: the view has none). */
+export async function jobAccuracy(jobId) {
+  return parseJson("AccuracyPlot", await request("GET", `/api/jobs/${encodeURIComponent(jobId)}/accuracy`));
+}
+
 /** The colour ramp of the BVH cost heat map, low to high, as the server draws it. */
 export const heatRampUrl = () => withToken("/api/jobs/legends/bvh_cost.png");
 

@@ -54,7 +54,7 @@ export class ComparePanel extends EventTarget {
     const { width, height } = job.request.settings;
     const list = (await listJobs(0, 200)).jobs.filter((j) => enumName("JobState", j.state) === "DONE"
       && j.request.settings.width === width && j.request.settings.height === height);
-    if (this.job !== job) return;
+    if (this.job?.id !== job.id) return;
     const label = (j) => `${j.id.slice(0, 8)} · ${j.request.settings.samplesPerPixel} spp`
       + `${j.id === job.id ? " (this job)" : ""}`;
     this.jobSelect.replaceChildren(new Option("–", ""), ...list.map((j) => new Option(label(j), j.id)));
@@ -78,7 +78,7 @@ export class ComparePanel extends EventTarget {
     this._say(`Loading job ${other.slice(0, 8)}…`);
     try {
       const [b, whole] = await Promise.all([jobLayer(other, "color"), compareJobs(job.id, other)]);
-      if (this.job !== job || this.jobSelect.value !== other) return;
+      if (this.job?.id !== job.id || this.jobSelect.value !== other) return;
       this.other = other;
       this.b = { ...b, name: "B" };
       this.modeSelect.disabled = false;

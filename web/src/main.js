@@ -9,6 +9,7 @@ import { ImageWorkspace } from "./image-workspace.js";
 import { isFinal, JobFollower } from "./job-follower.js";
 import { JobPanel, stateOf } from "./job-panel.js";
 import { ProjectionControl } from "./projection-control.js";
+import { ReferencePanel } from "./reference-panel.js";
 import { Router } from "./router.js";
 import { ScenesPanel } from "./scenes-panel.js";
 import { SettingsPanel } from "./settings-panel.js";
@@ -32,6 +33,9 @@ const layers = new ImageLayers($("layer-buttons"), $("layer-image"), $("heat-leg
 const debug = new DebugPanel(viewer, tiles, overlay);
 const image = new ImageWorkspace(tiles, debug);
 const views = new ViewSwitch(document);
+const reference = new ReferencePanel();
+reference.addEventListener("open", (e) => router.go(e.detail));
+reference.addEventListener("scene", (e) => { if (state.scene?.id === e.detail.id) state.scene = e.detail; });
 const wipe = new Wipe(image.view, viewer.renderer.domElement, $("wipe-handle"));
 views.addEventListener("change", (e) => {
   // The wipe compares the render with the 3D view from the job's own camera.
@@ -126,8 +130,12 @@ scenes.addEventListener("deleted", (e) => {
   if (scenes.scenes.length) selectScene(scenes.scenes[0].id);
 });
 
-$("render-form").addEventListener("submit", async (e) => {
-  e.preventDefault();
+// A converged render of the view, the one its other jobs are measured
+// against: many samples, adaptive, behind the interactive jobs.
+const REFERENCE_SETTINGS = { samplesPerPixel: 1024, adaptiveThreshold: 0.01 };
+
+/** Submits the view as a job (`reference`: the view's reference render) and opens it. */
+async function submitView(reference, button) {
   const error = $("render-error");
   error.textContent = "";
   if (!state.scene) {
@@ -135,15 +143,15 @@ $("render-form").addEventListener("submit", async (e) => {
     return;
   }
   if (!settings.validate()) return;
-  const button = $("render-button");
   button.disabled = true;
   try {
     const job = await submitJob({
       sceneId: state.scene.id,
       camera: shutter.apply(viewToCamera(viewer)),
-      settings: settings.settings(),
+      settings: reference ? { ...settings.settings(), ...REFERENCE_SETTINGS } : settings.settings(),
       outputs: settings.outputValues(),
-      interactive: settings.interactive.checked,
+      interactive: !reference && settings.interactive.checked,
+      reference,
     });
     router.go(job.id);
   } catch (err) {
@@ -151,7 +159,13 @@ $("render-form").addEventListener("submit", async (e) => {
   } finally {
     button.disabled = false;
   }
+}
+
+$("render-form").addEventListener("submit", (e) => {
+  e.preventDefault();
+  submitView(false, $("render-button"));
 });
+$("render-reference").addEventListener("click", () => submitView(true, $("render-reference")));
 
 // --- jobs ---------------------------------------------------------------------
 
@@ -167,6 +181,7 @@ function showJob(job) {
   const done = stateOf(job) === "DONE";
   layers.setJob(job, done);
   image.setJob(job, done);
+  reference.setJob(job, done);
   debug.setJob(job);
   if (isFinal(job)) overlay.setRunning([]);
 }
@@ -254,6 +269,6 @@ async function start() {
 
 // For the console and the browser tests: the live objects, read-only by convention.
 window.rt = {
-  viewer, settings, projection, shutter, scenes, jobPanel, tiles, follower, overlay, layers, debug, image, views, wipe, router, state,
+  viewer, settings, projection, shutter, scenes, jobPanel, tiles, follower, overlay, layers, debug, image, views, wipe, reference, router, state,
 };
 start();

@@ -8,6 +8,7 @@ marking a job replaces the reference its view had.
 
 from __future__ import annotations
 
+from google.protobuf.message import Message
 from rt import job_pb2
 
 from .errors import Conflict, NotFound
@@ -17,11 +18,35 @@ from .scene_store import SceneStore
 PLOT_JOBS = 500
 
 
-def view_of(job: job_pb2.Job) -> bytes:
-    """What a job and its reference share: scene, camera and image size."""
-    request = job.request
-    size = f"|{request.settings.width}x{request.settings.height}|".encode()
-    return request.scene_id.encode() + size + request.camera.SerializeToString(deterministic=True)
+# Cameras this close are one view: the viewer's camera, sent back after
+# three.js held it, differs from the job's it came from in the last bits.
+CAMERA_TOLERANCE = 1e-4
+
+
+def _close(a: Message, b: Message) -> bool:
+    """Two messages equal field by field, floats within CAMERA_TOLERANCE (relative above 1)."""
+    fields = {f.name for f, _ in a.ListFields()} | {f.name for f, _ in b.ListFields()}
+    for name in fields:
+        field = a.DESCRIPTOR.fields_by_name[name]
+        repeated = field.label == field.LABEL_REPEATED
+        x, y = getattr(a, name), getattr(b, name)
+        if field.message_type is not None and not repeated:
+            if not _close(x, y):
+                return False
+        elif field.type in (field.TYPE_FLOAT, field.TYPE_DOUBLE):
+            xs, ys = (list(x), list(y)) if repeated else ([x], [y])
+            if len(xs) != len(ys) or any(abs(u - v) > CAMERA_TOLERANCE * max(1.0, abs(u)) for u, v in zip(xs, ys)):
+                return False
+        elif x != y:
+            return False
+    return True
+
+
+def same_view(a: job_pb2.Job, b: job_pb2.Job) -> bool:
+    """Whether two jobs show one view: scene, image size and camera."""
+    sa, sb = a.request.settings, b.request.settings
+    return (a.request.scene_id == b.request.scene_id and (sa.width, sa.height) == (sb.width, sb.height)
+            and _close(a.request.camera, b.request.camera))
 
 
 def reference_for(scenes: SceneStore, manager, job: job_pb2.Job) -> job_pb2.Job | None:
@@ -31,7 +56,7 @@ def reference_for(scenes: SceneStore, manager, job: job_pb2.Job) -> job_pb2.Job 
         return None
     for reference_id in reversed(stored.info.reference_jobs):
         reference = manager.get(reference_id)
-        if reference is not None and reference.state == job_pb2.DONE and view_of(reference) == view_of(job):
+        if reference is not None and reference.state == job_pb2.DONE and same_view(reference, job):
             return reference
     return None
 
@@ -45,9 +70,8 @@ def mark(scenes: SceneStore, manager, scene_id: str, job: job_pb2.Job) -> job_pb
     stored = scenes.get(scene_id)
     if stored is None:
         raise NotFound(f"no scene with id '{scene_id}'")
-    view = view_of(job)
     kept = [r for r in stored.info.reference_jobs
-            if r != job.id and (other := manager.get(r)) is not None and view_of(other) != view]
+            if r != job.id and (other := manager.get(r)) is not None and not same_view(other, job)]
     updated = scenes.set_references(scene_id, kept + [job.id])
     if updated is None:
         raise NotFound(f"no scene with id '{scene_id}'")
@@ -67,16 +91,16 @@ def unmark(scenes: SceneStore, scene_id: str, job_id: str) -> job_pb2.SceneInfo:
 
 
 async def accuracy(scenes: SceneStore, manager, job: job_pb2.Job) -> job_pb2.AccuracyPlot:
-    """The done jobs of the job's view against its reference, oldest first."""
+    """The done jobs of the job's view against its reference, oldest first;
+    empty (no reference_id) while the view has no reference, a state every
+    view starts in rather than an error."""
     reference = reference_for(scenes, manager, job)
     if reference is None:
-        raise NotFound(f"job '{job.id}''s view (its scene, camera and size) has no reference: "
-                       "mark a done job of it as the reference, or render one")
-    view = view_of(job)
+        return job_pb2.AccuracyPlot()
     jobs, _ = manager.page(0, PLOT_JOBS)
     plot = job_pb2.AccuracyPlot(reference_id=reference.id)
     for other in reversed(jobs):
-        if other.id == reference.id or other.state != job_pb2.DONE or view_of(other) != view:
+        if other.id == reference.id or other.state != job_pb2.DONE or not same_view(other, job):
             continue
         error = await manager.compare(other, reference, None)
         plot.points.add(job_id=other.id, seconds=max(other.finished_at - other.started_at, 0.0), error=error,

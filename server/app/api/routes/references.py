@@ -32,6 +32,7 @@ async def unmark_reference(scene_id: str, job_id: str, store: SceneStore = Depen
 
 
 @router.get("/api/jobs/{job_id}/accuracy",
-            responses={200: json_response(job_pb2.AccuracyPlot, "The view's done jobs against its reference")})
+            responses={200: json_response(job_pb2.AccuracyPlot,
+                                                "The view's done jobs against its reference; empty without one")})
 async def accuracy(job_id: str, store: SceneStore = Depends(scenes), manager: JobManager = Depends(jobs)):
     return proto_json(await references.accuracy(store, manager, job_or_404(manager, job_id)))
