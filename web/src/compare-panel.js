@@ -51,10 +51,11 @@ export class ComparePanel extends EventTarget {
   async setJob(job) {
     this.job = job;
     this._clear();
+    const ticket = (this._ticket = (this._ticket ?? 0) + 1); // only the latest listing is shown
     const { width, height } = job.request.settings;
     const list = (await listJobs(0, 200)).jobs.filter((j) => enumName("JobState", j.state) === "DONE"
       && j.request.settings.width === width && j.request.settings.height === height);
-    if (this.job?.id !== job.id) return;
+    if (ticket !== this._ticket) return;
     const label = (j) => `${j.id.slice(0, 8)} · ${j.request.settings.samplesPerPixel} spp`
       + `${j.id === job.id ? " (this job)" : ""}`;
     this.jobSelect.replaceChildren(new Option("–", ""), ...list.map((j) => new Option(label(j), j.id)));

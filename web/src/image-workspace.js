@@ -77,8 +77,13 @@ export class ImageWorkspace extends EventTarget {
       const { width, height } = job.request.settings;
       this.view.setSource(this.tiles.canvas, width, height);
       this._say("");
+      this._listComparable(job);
     }
     if (done && !this.layers && !this._loading) this._loading = this._load(job);
+  }
+
+  _listComparable(job) {
+    this.compare.setJob(job).catch((e) => this._say(`The jobs to compare with could not be listed: ${e.message}`));
   }
 
   _jobDisplay() {
@@ -95,8 +100,8 @@ export class ImageWorkspace extends EventTarget {
       this.controls.setLayers(this.layers);
       this.readout.setLayers(this.layers);
       this._redisplay();
-      await this.compare.setJob(job);
       this._say("");
+      this._listComparable(job); // now with the job itself among the done ones
       this.dispatchEvent(new Event("layers"));
     } catch (e) {
       if (this.job?.id === job.id) this._say(`The linear layers could not be loaded: ${e.message}`);
