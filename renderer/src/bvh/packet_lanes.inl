@@ -84,6 +84,49 @@ template <typename Lanes>
     }
 }
 
+// A comparison of RayLanes, lane by lane, in the form its path combines
+// fastest: with AVX-512 the bits of a mask register, where the comparison
+// writes them and and/or/not cost no conversion (as vectors, GCC moved each
+// combined mask into a vector and back, vpmovm2d / vpmovd2m, in the packet
+// triangle test's critical chain); otherwise the lanes, made bits once at
+// the end by lane_bits. Every predicate is ordered: NaN compares false.
+template <int kPredicate, typename Lanes>
+[[gnu::always_inline]] inline auto compare_lanes(Lanes a, Lanes b) {
+    if constexpr (kSimdPath == SimdPath::avx512 && sizeof(Lanes) == 64) {
+        __m512 x, y;
+        __builtin_memcpy(&x, &a, sizeof x), __builtin_memcpy(&y, &b, sizeof y);
+        return uint32_t(_mm512_cmp_ps_mask(x, y, kPredicate));
+    } else if constexpr (kPredicate == _CMP_LT_OQ) {
+        return a < b;
+    } else if constexpr (kPredicate == _CMP_LE_OQ) {
+        return a <= b;
+    } else if constexpr (kPredicate == _CMP_EQ_OQ) {
+        return a == b;
+    } else if constexpr (kPredicate == _CMP_GT_OQ) {
+        return a > b;
+    } else {
+        static_assert(kPredicate == _CMP_GE_OQ);
+        return a >= b;
+    }
+}
+using LaneBits = decltype(compare_lanes<_CMP_LT_OQ>(RayLanes{}, RayLanes{}));
+
+[[gnu::always_inline]] inline LaneBits lanes_lt(RayLanes a, RayLanes b) { return compare_lanes<_CMP_LT_OQ>(a, b); }
+[[gnu::always_inline]] inline LaneBits lanes_le(RayLanes a, RayLanes b) { return compare_lanes<_CMP_LE_OQ>(a, b); }
+[[gnu::always_inline]] inline LaneBits lanes_eq(RayLanes a, RayLanes b) { return compare_lanes<_CMP_EQ_OQ>(a, b); }
+[[gnu::always_inline]] inline LaneBits lanes_gt(RayLanes a, RayLanes b) { return compare_lanes<_CMP_GT_OQ>(a, b); }
+[[gnu::always_inline]] inline LaneBits lanes_ge(RayLanes a, RayLanes b) { return compare_lanes<_CMP_GE_OQ>(a, b); }
+
+// Bit i: lane i of `bits` (compare_lanes' verdicts) is true.
+template <typename Bits>
+[[gnu::always_inline]] inline uint32_t lane_bits(Bits bits) {
+    if constexpr (std::is_same_v<Bits, uint32_t>) {
+        return bits;
+    } else {
+        return lanes_bits(bits);
+    }
+}
+
 // Lane i all ones where bit i of `bits` is set: lanes_bits' inverse.
 [[gnu::always_inline]] inline RayMask lanes_from_bits(uint32_t bits) {
     RayMask lane_bit;

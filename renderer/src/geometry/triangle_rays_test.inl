@@ -103,14 +103,14 @@ template <typename Triangle>
     const RayLanes e2 = bx * ay - by * ax;
 
     const RayLanes zero = lanes_splat<RayLanes>(0.0f);
-    const uint32_t exact_zero = lanes_bits((e0 == zero) | (e1 == zero) | (e2 == zero)) & rays;
-    const RayMask negative = (e0 < zero) | (e1 < zero) | (e2 < zero);
-    const RayMask positive = (e0 > zero) | (e1 > zero) | (e2 > zero);
+    const uint32_t exact_zero = lane_bits(lanes_eq(e0, zero) | lanes_eq(e1, zero) | lanes_eq(e2, zero)) & rays;
+    const LaneBits negative = lanes_lt(e0, zero) | lanes_lt(e1, zero) | lanes_lt(e2, zero);
+    const LaneBits positive = lanes_gt(e0, zero) | lanes_gt(e1, zero) | lanes_gt(e2, zero);
     const RayLanes det = (e0 + e1) + e2;
-    RayMask reject = (negative & positive) | (det == zero);
+    LaneBits reject = (negative & positive) | lanes_eq(det, zero);
     // Most rays that reach a leaf miss most of its triangles: leave before
     // the division and the error bound.
-    const uint32_t candidates = ~lanes_bits(reject) & rays & ~exact_zero;
+    const uint32_t candidates = ~lane_bits(reject) & rays & ~exact_zero;
     uint32_t hit_lanes = 0;
     if (candidates != 0) {
         const RayLanes sz = lanes_load<RayLanes>(s.sz + first);
@@ -118,14 +118,14 @@ template <typename Triangle>
         const RayLanes az = sz * a_z, bz = sz * b_z, cz = sz * c_z;
         const RayLanes t_scaled = (e0 * az + e1 * bz) + e2 * cz;
         const RayLanes t_max_det = t_max * det;
-        const RayMask det_negative = det < zero;
-        const RayMask out_if_negative = (t_scaled >= zero) | (t_scaled < t_max_det);
-        const RayMask out_if_positive = (t_scaled <= zero) | (t_scaled > t_max_det);
+        const LaneBits det_negative = lanes_lt(det, zero);
+        const LaneBits out_if_negative = lanes_ge(t_scaled, zero) | lanes_lt(t_scaled, t_max_det);
+        const LaneBits out_if_positive = lanes_le(t_scaled, zero) | lanes_gt(t_scaled, t_max_det);
         reject |= (det_negative & out_if_negative) | (~det_negative & out_if_positive);
 
         const RayLanes inv_det = lanes_splat<RayLanes>(1.0f) / det;
         const RayLanes t = t_scaled * inv_det;
-        hit_lanes = lanes_bits(~reject & (t < t_max)) & candidates;
+        hit_lanes = lane_bits(~reject & lanes_lt(t, t_max)) & candidates;
         if (hit_lanes != 0) {
             // The conservative bound on t's rounding error (pbrt-v4, section 6.8.6).
             const RayLanes max_zt = lanes_abs_max(az, bz, cz);
@@ -142,7 +142,7 @@ template <typename Triangle>
             const RayLanes max_e = lanes_abs_max(e0, e1, e2);
             const RayLanes delta_t =
                 3.0f * ((gamma3 * max_e * max_zt + delta_e * max_zt) + delta_z * max_e) * lanes_abs(inv_det);
-            hit_lanes &= ~lanes_bits(t <= delta_t);
+            hit_lanes &= ~lane_bits(lanes_le(t, delta_t));
             hits.t = t;
             hits.u = e1 * inv_det;
             hits.v = e2 * inv_det;
