@@ -93,3 +93,11 @@ def test_a_camera_a_few_ulps_away_is_the_same_view_and_a_moved_one_is_not(client
                                            "settings": {"width": 40, "height": 30}}).json()
     assert wait_for(client, moved["id"])["state"] == "DONE"
     assert client.get(f"/api/jobs/{moved['id']}/accuracy").json()["reference_id"] == ""
+
+
+def test_a_plot_holds_the_views_newest_jobs_only(client, view, monkeypatch):
+    from app.services import references
+    _, a, b, _ = view
+    monkeypatch.setattr(references, "PLOT_POINTS", 1)
+    points = client.get(f"/api/jobs/{a['id']}/accuracy").json()["points"]
+    assert len(points) == 1 and points[0]["job_id"] not in (a["id"], b["id"]), "the newest job of the view, not a or b"

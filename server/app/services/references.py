@@ -14,8 +14,12 @@ from rt import job_pb2
 from .errors import Conflict, NotFound
 from .scene_store import SceneStore
 
-# The jobs of a view looked at for its plot: the newest this many of all jobs.
+# The jobs looked at for a view's plot: the newest this many of all jobs.
 PLOT_JOBS = 500
+# Points of a plot at most, the view's newest jobs: measuring a job the first
+# time makes its HDR-FLIP map, about a second of a core for 640x480, so a
+# long history must not hold one request for minutes.
+PLOT_POINTS = 32
 
 
 # Cameras this close are one view: the viewer's camera, sent back after
@@ -91,17 +95,17 @@ def unmark(scenes: SceneStore, scene_id: str, job_id: str) -> job_pb2.SceneInfo:
 
 
 async def accuracy(scenes: SceneStore, manager, job: job_pb2.Job) -> job_pb2.AccuracyPlot:
-    """The done jobs of the job's view against its reference, oldest first;
+    """The newest PLOT_POINTS done jobs of the job's view against its reference, oldest first;
     empty (no reference_id) while the view has no reference, a state every
     view starts in rather than an error."""
     reference = reference_for(scenes, manager, job)
     if reference is None:
         return job_pb2.AccuracyPlot()
-    jobs, _ = manager.page(0, PLOT_JOBS)
+    jobs, _ = manager.page(0, PLOT_JOBS)  # newest first
+    view = [other for other in jobs
+            if other.id != reference.id and other.state == job_pb2.DONE and same_view(other, job)][:PLOT_POINTS]
     plot = job_pb2.AccuracyPlot(reference_id=reference.id)
-    for other in reversed(jobs):
-        if other.id == reference.id or other.state != job_pb2.DONE or not same_view(other, job):
-            continue
+    for other in reversed(view):
         error = await manager.compare(other, reference, None)
         plot.points.add(job_id=other.id, seconds=max(other.finished_at - other.started_at, 0.0), error=error,
                         settings=other.request.settings)
