@@ -205,6 +205,9 @@ describe("compare", { timeout: 200_000 }, () => {
     assert.deepEqual(dots.map((d) => d.job).sort(), plot.points.map((p) => p.job_id).sort());
     assert.ok(dots.find((d) => d.job === jobs.a).current, "the open job is ringed");
     assert.match(dots.find((d) => d.job === jobs.b).title, /16 spp/);
+    const line = await page.textContent(`#history-list small[data-job="${jobs.a}"]`);
+    assert.ok(line.includes(`FLIP ${Number(mine.error.mean_flip.toPrecision(3))}`), `the history shows A's error: ${line}`);
+    assert.match(await page.textContent(`#history-list small[data-job="${referenceId}"]`), /reference/);
     await screenshot(page, "compare-reference-plot");
     await page.click(`#accuracy-plot circle[data-job="${jobs.b}"]`);
     await page.waitForURL((url) => url.pathname === `/jobs/${jobs.b}`);

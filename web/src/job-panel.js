@@ -36,6 +36,8 @@ export class JobPanel extends EventTarget {
     this.el.cancel.addEventListener("click", () => this._cancel());
     this.el.more.addEventListener("click", () => this.refreshHistory(this.historyCount + 20));
     this.historyCount = 20;
+    this.errors = new Map(); // job id -> its mean FLIP against its view's reference, once a plot told it
+    this.references = new Set();
     this._ticker = setInterval(() => this._showTimes(), 250);
   }
 
@@ -120,6 +122,14 @@ export class JobPanel extends EventTarget {
     this.dispatchEvent(new Event("cancelled"));
   }
 
+  /** Notes a view's jobs' errors against its reference (an rt.AccuracyPlot), shown in the history. */
+  showErrors(plot) {
+    if (!plot.referenceId) return;
+    this.references.add(plot.referenceId);
+    for (const p of plot.points) this.errors.set(p.jobId, p.error.meanFlip);
+    for (const small of this.el.history.querySelectorAll("small[data-job]")) this._describe(small);
+  }
+
   /** Reloads the history list (newest first), `count` entries. */
   async refreshHistory(count = this.historyCount) {
     this.historyCount = count;
@@ -162,7 +172,9 @@ export class JobPanel extends EventTarget {
     const when = job.createdAt ? new Date(job.createdAt * 1000).toLocaleTimeString() : "";
     text.innerHTML = `<strong></strong><small></small>`;
     text.querySelector("strong").textContent = `${s ? `${s.width}×${s.height}` : job.id}`;
-    text.querySelector("small").textContent = `${state.toLowerCase()} · ${when}`;
+    const small = text.querySelector("small");
+    Object.assign(small.dataset, { job: job.id, state: state.toLowerCase(), when });
+    this._describe(small);
     a.append(text);
     a.addEventListener("click", (e) => {
       if (e.button !== 0 || e.metaKey || e.ctrlKey || e.shiftKey) return;
@@ -171,5 +183,13 @@ export class JobPanel extends EventTarget {
     });
     li.append(a);
     return li;
+  }
+
+  /** A history entry's line: its state and time, and its error against its view's reference when known. */
+  _describe(small) {
+    const { job, state, when } = small.dataset;
+    const flip = this.errors.get(job);
+    const error = this.references.has(job) ? " · reference" : flip === undefined ? "" : ` · FLIP ${Number(flip.toPrecision(3))}`;
+    small.textContent = `${state} · ${when}${error}`;
   }
 }

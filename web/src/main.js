@@ -35,6 +35,7 @@ const image = new ImageWorkspace(tiles, debug);
 const views = new ViewSwitch(document);
 const reference = new ReferencePanel();
 reference.addEventListener("open", (e) => router.go(e.detail));
+reference.addEventListener("plot", (e) => jobPanel.showErrors(e.detail));
 reference.addEventListener("scene", (e) => { if (state.scene?.id === e.detail.id) state.scene = e.detail; });
 const wipe = new Wipe(image.view, viewer.renderer.domElement, $("wipe-handle"));
 views.addEventListener("change", (e) => {

@@ -2,7 +2,8 @@
 // camera and size, marked as it, or rendered as it): the job's time and
 // error, and the view's speed-against-error plot; "Mark as this view's
 // reference" for a done job. Fires "scene" (the updated rt.SceneInfo) after
-// a mark, and "open" (a job id) when a point of the plot is clicked.
+// a mark, "plot" (the rt.AccuracyPlot) when one is loaded, and "open" (a job
+// id) when a point of the plot is clicked.
 import { jobAccuracy, markReference } from "./api.js";
 import { drawAccuracyPlot } from "./accuracy-plot.js";
 
@@ -44,6 +45,7 @@ export class ReferencePanel extends EventTarget {
       return;
     }
     if (!current()) return;
+    this.dispatchEvent(new CustomEvent("plot", { detail: plot }));
     if (!plot.referenceId) {
       this.mark.disabled = false;
       this._say("This view has no reference yet: mark a converged job of it as the reference, or use Render reference.");
