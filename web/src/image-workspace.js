@@ -18,9 +18,8 @@ const $ = (id) => document.getElementById(id);
 export const layerNames = (job) =>
   ["color", ...job.request.outputs.map((o) => enumName("AuxOutput", o).toLowerCase())];
 
-export class ImageWorkspace extends EventTarget {
+export class ImageWorkspace {
   constructor(tiles, debug) {
-    super();
     this.tiles = tiles;
     this.view = new ImageView($("image-view-canvas"));
     this.controls = new ImageControls();
@@ -102,7 +101,6 @@ export class ImageWorkspace extends EventTarget {
       this._redisplay();
       this._say("");
       this._listComparable(job); // now with the job itself among the done ones
-      this.dispatchEvent(new Event("layers"));
     } catch (e) {
       if (this.job?.id === job.id) this._say(`The linear layers could not be loaded: ${e.message}`);
       this._loading = null;
