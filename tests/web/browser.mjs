@@ -56,3 +56,17 @@ export async function screenshot(page, name, options = {}) {
   await page.screenshot({ path, ...options });
   return path;
 }
+
+/**
+ * Drags a wipe's line (the `handle` selector) along the middle row of `box`
+ * (a bounding box) to `fraction` of its width; answers that row's y.
+ */
+export async function dragLine(page, handle, box, fraction) {
+  const grip = await page.locator(handle).boundingBox();
+  const middle = box.y + box.height / 2;
+  await page.mouse.move(grip.x + grip.width / 2, middle);
+  await page.mouse.down();
+  await page.mouse.move(box.x + fraction * box.width, middle, { steps: 4 });
+  await page.mouse.up();
+  return middle;
+}

@@ -7,7 +7,7 @@
 // plotted as time against error; marking another job replaces it.
 import assert from "node:assert/strict";
 import { after, before, describe, test } from "node:test";
-import { ARTIFACTS, launch, openPage, screenshot } from "./browser.mjs";
+import { ARTIFACTS, dragLine, launch, openPage, screenshot } from "./browser.mjs";
 import { readExr } from "./exr.mjs";
 import { startServer } from "./server.mjs";
 
@@ -139,12 +139,7 @@ describe("compare", { timeout: 200_000 }, () => {
     await page.selectOption("#compare-mode", "wipe");
     await page.waitForFunction(() => !document.querySelector("#compare-handle").hidden);
     const canvas = await page.locator("#image-view-canvas").boundingBox();
-    const handle = await page.locator("#compare-handle").boundingBox();
-    const middle = canvas.y + canvas.height / 2;
-    await page.mouse.move(handle.x + handle.width / 2, middle);
-    await page.mouse.down();
-    await page.mouse.move(canvas.x + 0.45 * canvas.width, middle, { steps: 4 });
-    await page.mouse.up();
+    const middle = await dragLine(page, "#compare-handle", canvas, 0.45);
     await page.waitForTimeout(50);
     const sides = await page.evaluate(([line, middle]) => {
       const { view, display, displayB } = window.rt.image;

@@ -8,7 +8,7 @@
 // 3D view at the job's camera.
 import assert from "node:assert/strict";
 import { after, before, describe, test } from "node:test";
-import { ARTIFACTS, launch, openPage, screenshot } from "./browser.mjs";
+import { ARTIFACTS, dragLine, launch, openPage, screenshot } from "./browser.mjs";
 import { readExr } from "./exr.mjs";
 import { startServer } from "./server.mjs";
 
@@ -238,12 +238,7 @@ describe("image view", { timeout: 150_000 }, () => {
     // Within half a pixel: the 3D canvas rounds its height to whole pixels.
     for (const d of offBy) assert.ok(Math.abs(d) <= 0.5, `the render lies on the 3D canvas (${offBy})`);
     const frame = await page.locator("#viewport canvas").boundingBox();
-    const handle = await page.locator("#wipe-handle").boundingBox();
-    const middle = frame.y + frame.height / 2;
-    await page.mouse.move(handle.x + handle.width / 2, middle);
-    await page.mouse.down();
-    await page.mouse.move(frame.x + 0.3 * frame.width, middle, { steps: 4 });
-    await page.mouse.up();
+    const middle = await dragLine(page, "#wipe-handle", frame, 0.3);
     const fraction = await page.evaluate(() => window.rt.wipe.fraction);
     assert.ok(Math.abs(fraction - 0.3) < 0.01, `the handle followed the drag (${fraction})`);
     await page.waitForTimeout(50);

@@ -5,7 +5,7 @@
 // rectangle dragged. The key X flips between A and B. Fires "change" when
 // what the image view shows must change.
 import { compareJobs, flipMap, jobLayer, listJobs } from "./api.js";
-import { ERROR_KINDS } from "./error-maps.js";
+import { ERROR_KINDS, errorLayer } from "./error-maps.js";
 import { enumName } from "./proto.js";
 
 const $ = (id) => document.getElementById(id);
@@ -28,6 +28,8 @@ export class ComparePanel extends EventTarget {
     this.b = null; // B's colour layer
     this.flip = null; // the HDR-FLIP map of A against B, once asked for
     this.showB = false; // what Flip shows
+    this.whole = null; // the server's metrics over the whole image
+    this.errors = null; // the last error map made: {kind, layer}
     this.modeSelect.replaceChildren(...Object.entries(COMPARE_MODES).map(([v, label]) => new Option(label, v)));
     this.jobSelect.addEventListener("change", () => this._pick(this.jobSelect.value));
     this.modeSelect.addEventListener("change", () => this._modeChanged());
@@ -66,6 +68,8 @@ export class ComparePanel extends EventTarget {
     this.b = null;
     this.flip = null;
     this.showB = false;
+    this.whole = null;
+    this.errors = null;
     this.modeSelect.disabled = true;
     this.metrics.replaceChildren();
     this.jobSelect.value = "";
@@ -82,6 +86,7 @@ export class ComparePanel extends EventTarget {
       if (this.job?.id !== job.id || this.jobSelect.value !== other) return;
       this.other = other;
       this.b = { ...b, name: "B" };
+      this.whole = whole;
       this.modeSelect.disabled = false;
       this._showMetrics(whole, null);
       await this._modeChanged();
@@ -108,9 +113,14 @@ export class ComparePanel extends EventTarget {
   async measure(rect) {
     if (!this.active) return;
     const other = this.other;
-    const whole = await compareJobs(this.job.id, other);
     const part = rect ? await compareJobs(this.job.id, other, { x: rect.x0, y: rect.y0, w: rect.x1 - rect.x0, h: rect.y1 - rect.y0 }) : null;
-    if (this.other === other) this._showMetrics(whole, part);
+    if (this.other === other) this._showMetrics(this.whole, part);
+  }
+
+  /** The `kind` error map (error-maps.js) of colour layer `a` against B, made once per B and kind. */
+  errorMap(kind, a) {
+    if (this.errors?.kind !== kind) this.errors = { kind, layer: errorLayer(kind, a, this.b) };
+    return this.errors.layer;
   }
 
   _showMetrics(whole, part) {

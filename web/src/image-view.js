@@ -155,25 +155,10 @@ export class ImageView extends EventTarget {
     ctx.setTransform(1, 0, 0, 1, 0, 0);
     ctx.clearRect(0, 0, this.canvas.width, this.canvas.height);
     if (!this.source || !this.width) return;
-    ctx.save();
-    if (this.wipe !== null) {
-      ctx.beginPath();
-      ctx.rect(dpr * this.wipe, 0, this.canvas.width, this.canvas.height);
-      ctx.clip();
-    }
-    ctx.setTransform(dpr * this.scale, 0, 0, dpr * this.scale, dpr * this.offset[0], dpr * this.offset[1]);
     // Past 1:1 each texel is a sharp square, as tev shows them.
     ctx.imageSmoothingEnabled = this.scale < 1;
-    ctx.drawImage(this.source, 0, 0, this.width, this.height);
-    if (this.second) {
-      ctx.setTransform(1, 0, 0, 1, 0, 0);
-      ctx.beginPath();
-      ctx.rect(dpr * this.split, 0, this.canvas.width, this.canvas.height);
-      ctx.clip();
-      ctx.setTransform(dpr * this.scale, 0, 0, dpr * this.scale, dpr * this.offset[0], dpr * this.offset[1]);
-      ctx.drawImage(this.second, 0, 0, this.width, this.height);
-    }
-    ctx.restore();
+    this._drawImage(this.source, this.wipe ?? -Infinity, dpr);
+    if (this.second) this._drawImage(this.second, this.split, dpr);
     ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
     ctx.lineWidth = 1;
     if (this.selection) {
@@ -191,6 +176,21 @@ export class ImageView extends EventTarget {
       ctx.strokeStyle = "#ffd54a";
       ctx.strokeRect(sx + this.scale / 2 - size / 2 - 1, sy + this.scale / 2 - size / 2 - 1, size + 2, size + 2);
     }
+  }
+
+  /** Draws `image` where the image lies, only right of `left` CSS pixels. */
+  _drawImage(image, left, dpr) {
+    const ctx = this.ctx;
+    ctx.save();
+    if (left > -Infinity) {
+      ctx.setTransform(1, 0, 0, 1, 0, 0);
+      ctx.beginPath();
+      ctx.rect(dpr * left, 0, this.canvas.width, this.canvas.height);
+      ctx.clip();
+    }
+    ctx.setTransform(dpr * this.scale, 0, 0, dpr * this.scale, dpr * this.offset[0], dpr * this.offset[1]);
+    ctx.drawImage(image, 0, 0, this.width, this.height);
+    ctx.restore();
   }
 
   _toScreen(x, y) {

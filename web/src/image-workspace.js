@@ -6,7 +6,7 @@ import { jobLayer } from "./api.js";
 import { ComparePanel } from "./compare-panel.js";
 import { displayBytes, viewRange } from "./display.js";
 import { DragHandle } from "./drag-handle.js";
-import { ERROR_KINDS, errorLayer } from "./error-maps.js";
+import { ERROR_KINDS } from "./error-maps.js";
 import { ImageControls } from "./image-controls.js";
 import { ImageView } from "./image-view.js";
 import { PixelReadout } from "./pixel-readout.js";
@@ -116,7 +116,7 @@ export class ImageWorkspace {
     const a = this.layers.get("color");
     if (mode === "flip" && compare.showB) layer = compare.b;
     else if (mode === "wipe") layer = a;
-    else if (ERROR_KINDS[mode]) layer = errorLayer(mode, a, compare.b);
+    else if (ERROR_KINDS[mode]) layer = compare.errorMap(mode, a); // not remade as exposure and the rest change
     else if (mode === "flip-map" && compare.flip) layer = compare.flip;
     // Error maps read as numbers: false colour over their range. B's colour,
     // A's in the wipe and the difference (a colour too) take the colour view's channel.

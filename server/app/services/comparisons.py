@@ -87,5 +87,4 @@ def flip_layer(folder: Path, reference_folder: Path, job_id: str, reference_id: 
     """The HDR-FLIP map as a serialized rt.Layer (one float32 channel, "flip")."""
     error_map, _ = flip(*_pair(folder, reference_folder, job_id, reference_id), folder, reference_id)
     values = np.ascontiguousarray(error_map[..., None], dtype="<f4")
-    return job_pb2.Layer(name="flip", shape=values.shape, dtype=values.dtype.str, data=values.tobytes(),
-                         channels=["flip"]).SerializeToString()
+    return layer_files.layer_message("flip", values, ["flip"]).SerializeToString()

@@ -13,7 +13,6 @@ from pathlib import Path
 import numpy as np
 import rtcore
 from PIL import Image
-from rt import job_pb2
 
 from . import layer_files
 
@@ -112,7 +111,7 @@ def output_file(folder: Path, filename: str, settings: bytes) -> Path:
     return path
 
 
-def layer_message(folder: Path, name: str) -> bytes:
+def layer_bytes(folder: Path, name: str) -> bytes:
     """A done job's linear layer, whole, as a serialized rt.Layer of float32
     with its channels' EXR names: what the viewer's image view reads, the
     values of image.exr without an EXR parser in the browser. Raises
@@ -123,5 +122,4 @@ def layer_message(folder: Path, name: str) -> bytes:
     if values.ndim == 2:
         values = values[..., None]
     channels = ["R", "G", "B"] if name == "color" else rtcore.aux_channel_names(name)
-    return job_pb2.Layer(name=name, shape=values.shape, dtype=values.dtype.str, data=values.tobytes(),
-                         channels=channels).SerializeToString()
+    return layer_files.layer_message(name, values, channels).SerializeToString()

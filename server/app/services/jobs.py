@@ -28,7 +28,7 @@ from ..core.proto import normalize
 from . import comparisons, layer_files, references
 from .cluster import RenderCluster
 from .errors import Conflict, Invalid, NotFound, ServiceError
-from .job_image import bloom_layers, layer_message, output_file, read_rgba
+from .job_image import bloom_layers, layer_bytes, output_file, read_rgba
 from .job_store import JobStore
 from .scene_store import SceneStore, StoredScene
 from .streams import TileStream
@@ -188,7 +188,7 @@ class JobManager:
         the job is not done, NotFound when it has no such layer."""
         folder = self.done_folder(job)
         try:
-            return await asyncio.to_thread(layer_message, folder, name)
+            return await asyncio.to_thread(layer_bytes, folder, name)
         except FileNotFoundError:
             raise NotFound(f"job '{job.id}' has no {name} layer (ask for it in the request's outputs)") from None
 

@@ -175,3 +175,12 @@ def replace(job_folder: Path, name: str, image: np.ndarray, folder: str = PARTIA
     padded[:image.shape[0], :image.shape[1]] = image.reshape(image.shape[0], image.shape[1], channels)
     blocks[...] = padded.reshape(rows, tile, columns, tile, channels).transpose(0, 2, 1, 3, 4)
     blocks.flush()
+
+
+def layer_message(name: str, array: np.ndarray, channels: list[str] = ()) -> job_pb2.Layer:
+    """An array as an rt.Layer: a tile's (worker to server), or a whole image's with its channels' names."""
+    return job_pb2.Layer(name=name, shape=array.shape, dtype=array.dtype.str, data=array.tobytes(), channels=channels)
+
+
+def layer_array(layer: job_pb2.Layer) -> np.ndarray:
+    return np.frombuffer(layer.data, np.dtype(layer.dtype)).reshape(tuple(layer.shape))

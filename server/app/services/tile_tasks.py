@@ -19,6 +19,7 @@ from distributed import get_worker
 from rt import job_pb2
 
 from . import layer_files
+from .layer_files import layer_array, layer_message
 from .scene_cache import get_scene
 from .tile_plan import TileSpec
 
@@ -52,14 +53,6 @@ def _stop_source(run_id: str) -> rtcore.StopSource:
 
 def stop_run(run_id: str) -> None:
     _stop_source(run_id).request_stop()
-
-
-def layer_message(name: str, array: np.ndarray) -> job_pb2.Layer:
-    return job_pb2.Layer(name=name, shape=array.shape, dtype=array.dtype.str, data=array.tobytes())
-
-
-def layer_array(layer: job_pb2.Layer) -> np.ndarray:
-    return np.frombuffer(layer.data, np.dtype(layer.dtype)).reshape(tuple(layer.shape))
 
 
 def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, job_id: str, run_id: str, layers_dir: str,
