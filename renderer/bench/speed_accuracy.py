@@ -82,6 +82,7 @@ class Budget:
     height: int
     light_samples: tuple[int, ...]         # sphere and cone, at 1 spp
     pixel_spp: tuple[int, ...]             # cone over pixel samples; box and Gaussian jitter; time-sampled
+    denoise_spp: tuple[int, ...]           # the same, denoised (OIDN): from fewer samples
     adaptive_thresholds: tuple[float, ...]
     adaptive_cap: int
     grid_k: tuple[int, ...]
@@ -99,16 +100,19 @@ class Budget:
 # About 12 minutes on 2 cores once the references are cached (rendering them
 # the first time takes about as long again).
 NORMAL = Budget(width=320, height=240, light_samples=(1, 2, 4, 8, 16, 32, 64, 128, 256),
-                pixel_spp=(4, 8, 16, 32, 64, 128, 256), adaptive_thresholds=(0.2, 0.1, 0.05, 0.02, 0.01),
+                pixel_spp=(4, 8, 16, 32, 64, 128, 256), denoise_spp=(1, 2, 4, 8, 16, 32, 64), adaptive_thresholds=(0.2, 0.1, 0.05, 0.02, 0.01),
                 adaptive_cap=256, grid_k=(2, 3, 4, 6, 8, 12), frames=(2, 4, 8, 16, 32, 64, 128),
                 depths=(0, 1, 2, 3, 4, 5, 6, 8, 16), ref_light_samples=4096, ref_spp=2048, ref_frames=1024,
                 check_grid_k=32, check_frames=(32, 32), saving_pairs=9, repeats=True)
 # Seconds: to test the script. Keeps the 2020 report's defaults (16 shadow rays, 2x2, 16 frames) among the points.
-QUICK = Budget(width=64, height=48, light_samples=(1, 4, 16), pixel_spp=(4, 16), adaptive_thresholds=(0.2, 0.05),
+QUICK = Budget(width=64, height=48, light_samples=(1, 4, 16), pixel_spp=(4, 16), denoise_spp=(1, 4),
+               adaptive_thresholds=(0.2, 0.05),
                adaptive_cap=64, grid_k=(2, 4), frames=(2, 16), depths=(0, 1, 5), ref_light_samples=1024,
                ref_spp=256, ref_frames=256, check_grid_k=16, check_frames=(16, 16), saving_pairs=3, repeats=False)
 
 DEFAULT_DEPTH, DEFAULT_CUTOFF = 5, 0.001
+# Denoised points: Scene.render denoises the whole image, so their times include the denoiser's.
+DENOISE = {"denoise": "OIDN"}
 
 
 def soft_shadow_chart(slug: str, scene: SceneSpec, note: str, b: Budget) -> Chart:
@@ -131,6 +135,11 @@ def soft_shadow_chart(slug: str, scene: SceneSpec, note: str, b: Budget) -> Char
             Method("adaptive", f"adaptive: <= {cap} spp x 1 ray", ("filtered",),
                    [(f"t={t:g}", {"samples_per_pixel": cap, "light_samples": 1, "adaptive_threshold": t})
                     for t in b.adaptive_thresholds], adaptive=True),
+            Method("cone_denoised", "cone, denoised (OIDN): N rays at 1 spp", ("centre",),
+                   [(f"N={n}", {"light_samples": n, **DENOISE}) for n in b.light_samples if n <= 64]),
+            Method("cone_pixel_denoised", "cone over pixel samples, denoised (OIDN): N spp x 1 ray",
+                   ("filtered", "centre"),
+                   [(f"N={n}", {"samples_per_pixel": n, "light_samples": 1, **DENOISE}) for n in b.denoise_spp]),
         ],
         checks=[Check(f"sphere, {b.ref_light_samples} shadow rays at 1 spp",
                       {"light_sampling": "SPHERE", "light_samples": b.ref_light_samples}, "centre",
@@ -165,6 +174,8 @@ def aa_chart(slug: str, scene: SceneSpec, note: str, b: Budget) -> Chart:
             Method("adaptive", f"adaptive, box filter: <= {cap} spp", ("box",),
                    [(f"t={t:g}", {"pixel_filter": "BOX", "samples_per_pixel": cap, "adaptive_threshold": t})
                     for t in b.adaptive_thresholds], adaptive=True),
+            Method("box_denoised", "box filter, denoised (OIDN): N stratified spp", ("box",),
+                   [(f"N={n}", {"pixel_filter": "BOX", "samples_per_pixel": n, **DENOISE}) for n in b.denoise_spp]),
         ],
         checks=[Check(f"grid {k}x{k}", {"pixel_filter": "GRID", "samples_per_pixel": k * k}, "box",
                       "the grid's sub-pixel centres and the box filter's stratified samples should "
@@ -189,6 +200,8 @@ def motion_chart(slug: str, scene: SceneSpec, note: str, b: Budget) -> Chart:
                    [(f"K={k}", {"motion_blur": "FRAMES", "motion_frames": k}) for k in b.frames]),
             Method("time", "time-sampled: N spp", ("time",),
                    [(f"N={n}", {"samples_per_pixel": n}) for n in b.pixel_spp]),
+            Method("time_denoised", "time-sampled, denoised (OIDN): N spp", ("time",),
+                   [(f"N={n}", {"samples_per_pixel": n, **DENOISE}) for n in b.denoise_spp]),
         ],
         checks=[Check(f"frames, {frames} x {spp} spp (Gaussian filter)",
                       {"motion_blur": "FRAMES", "motion_frames": frames, "samples_per_pixel": spp}, "time",

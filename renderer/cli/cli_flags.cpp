@@ -53,7 +53,7 @@ void print_help() {
         "\n"
         "Renders SCENE (.gltf, .glb or .obj, with an optional SCENE-stem.rt.json sidecar).\n"
         "PNG is written as sRGB 8-bit (after --exposure and --tone-map), EXR as linear\n"
-        "float; both after bloom (--bloom-strength above 0).\n"
+        "float; both after denoising (--denoise oidn) and bloom (--bloom-strength above 0).\n"
         "\n"
         "options:\n"
         "  -o, --output FILE        image to write (.png or .exr)\n"
@@ -68,6 +68,8 @@ void print_help() {
         "  --tile-size N            tile edge in pixels (default 32); never changes the image\n"
         "  --aux LIST               auxiliary outputs as extra EXR channels, comma-separated:\n"
         "                           depth,normal,albedo,bvh_cost (rt.AuxOutput)\n"
+        "  --noisy FILE             with --denoise, also the image before denoising\n"
+        "                           (.png or .exr, after bloom as the output is)\n"
         "  --debug-pixel X,Y        print the rays traced for one pixel (rt.DebugPath JSON)\n"
         "  --quiet                  no progress bar\n"
         "  -h, --help               this text\n"
@@ -222,6 +224,8 @@ Options parse_arguments(int argc, char** argv) {
         } else if (arg == "--tile-size") {
             options.tile_size = parse_number<uint32_t>(arg, value());
             if (options.tile_size == 0) throw UsageError("--tile-size must be at least 1");
+        } else if (arg == "--noisy") {
+            options.noisy = value();
         } else if (arg == "--aux") {
             options.aux = parse_aux_list(value());
         } else if (arg == "--quiet") {
@@ -252,6 +256,8 @@ Options parse_arguments(int argc, char** argv) {
     if (options.output.empty() && !options.debug_pixel) throw UsageError("no output given: -o OUT.png or OUT.exr");
     if (!options.aux.empty() && !options.output.empty() && !has_extension(options.output, ".exr"))
         throw UsageError("--aux writes extra channels of an EXR: the output must be .exr, not " + options.output);
+    if (!options.noisy.empty() && !has_extension(options.noisy, ".exr") && !has_extension(options.noisy, ".png"))
+        throw UsageError("--noisy: the file must be .png or .exr, not " + options.noisy);
     if (!options.camera_name.empty() && !options.camera_file.empty())
         throw UsageError("--camera and --camera-file exclude each other");
     if (options.perspective && options.ortho_height > 0.0f)

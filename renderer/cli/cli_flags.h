@@ -21,6 +21,7 @@ struct UsageError : std::runtime_error {
 struct Options {
     std::string scene;
     std::string output;
+    std::string noisy;  // --noisy: the image before denoising, when it is denoised
     std::string settings_file;
     std::string camera_name;
     std::string camera_file;

@@ -3,6 +3,7 @@
 // Every field of the rt.RenderSettings message is a flag (--max-depth for
 // max_depth; cli_flags.cpp), so a setting added to proto/rt/render.proto is
 // reachable here without touching either file.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -19,6 +20,8 @@
 #include "geometry/accel.h"
 #include "image/aov.h"
 #include "image/bloom.h"
+#include "image/denoise.h"
+#include "image/oidn_library.h"
 #include "integrator/default_camera.h"
 #include "image/image.h"
 #include "load/loader.h"
@@ -123,18 +126,37 @@ int run(const Options& options) {
         if (options.output.empty()) return 0;
     }
 
+    const bool denoising = renderer.settings().denoise() != rt::NO_DENOISER;
+    if (!options.noisy.empty() && !denoising)
+        throw UsageError("--noisy is the image before denoising: give --denoise oidn too");
     ProgressBar bar(!options.quiet);
     rt::RenderStats counts;
-    rt::AuxImage aux(renderer.settings().width(), renderer.settings().height(), options.aux);
+    // The denoiser's guides are rendered whether or not they are written.
+    std::vector<rt::AuxOutput> layers = options.aux;
+    for (rt::AuxOutput guide : rt::denoise_guides(renderer.settings()))
+        if (std::find(layers.begin(), layers.end(), guide) == layers.end()) layers.push_back(guide);
+    rt::AuxImage aux(renderer.settings().width(), renderer.settings().height(), layers);
     const auto start = std::chrono::steady_clock::now();
     rt::Image image = renderer.render(options.threads, options.tile_size,
                                       [&](size_t done, size_t total) { bar.update(done, total); }, counts, &aux);
     const double render_ms = milliseconds_since(start);
+    rt::Image noisy = options.noisy.empty() ? rt::Image() : image;
+    const auto denoise_start = std::chrono::steady_clock::now();
+    rt::apply_denoise(image, aux, renderer.settings(), options.threads);
+    const double denoise_ms = milliseconds_since(denoise_start);
     const auto bloom_start = std::chrono::steady_clock::now();
     rt::apply_bloom(image, renderer.settings());
     const double bloom_ms = milliseconds_since(bloom_start);
     const auto write_start = std::chrono::steady_clock::now();
-    rt::write_image(options.output, image, &aux, rt::DisplayTransform::from(renderer.settings()));
+    const rt::DisplayTransform display = rt::DisplayTransform::from(renderer.settings());
+    for (rt::AuxOutput output : layers)  // only the layers asked for are written
+        if (std::find(options.aux.begin(), options.aux.end(), output) == options.aux.end())
+            aux.with_layer(output, [](auto& values) { values.clear(); });
+    rt::write_image(options.output, image, &aux, display);
+    if (!options.noisy.empty()) {
+        rt::apply_bloom(noisy, renderer.settings());
+        rt::write_image(options.noisy, noisy, nullptr, display);
+    }
     const double write_ms = milliseconds_since(write_start);
 
     const auto& stats = accel.stats();
@@ -148,6 +170,7 @@ int run(const Options& options) {
                 double(counts.rays.total()) / (render_ms * 1e3),
                 static_cast<unsigned long long>(counts.rays.total()),
                 double(counts.samples) / (double(image.width) * image.height), options.output.c_str());
+    if (denoising) std::printf("rtrender: denoise %.1f ms (%s)\n", denoise_ms, rt::oidn::loaded_library().c_str());
     if (renderer.settings().bloom_strength() > 0.0f) std::printf("rtrender: bloom %.1f ms\n", bloom_ms);
     std::printf("rtrender: write %.1f ms\n", write_ms);
     return 0;

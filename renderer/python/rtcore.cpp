@@ -135,7 +135,8 @@ NB_MODULE(rtcore, m) {
              "placed, not traced again, and the counts cover the pixels traced.\n"
              "stop=StopSource: once its stop is requested, no further pixel starts and RenderStopped is raised.")
         .def("render", &PyScene::render, "camera"_a, "settings"_a, "threads"_a = 0, "tile_size"_a = 32,
-             "Renders the whole image on `threads` threads: float32 array (height, width, 3), linear RGB.")
+             "Renders the whole image on `threads` threads: float32 array (height, width, 3), linear RGB, "
+             "denoised when the settings ask (as rtrender; bloom is apply_bloom's).")
         .def("intersect", &PyScene::intersect, "origins"_a, "directions"_a, "t_max"_a = nb::none(),
              "threads"_a = 0, "Closest hits of a batch of rays: (t, primitive, u, v); primitive -1 on a miss.")
         .def("occluded", &PyScene::occluded, "origins"_a, "directions"_a, "t_max"_a = nb::none(), "threads"_a = 0,

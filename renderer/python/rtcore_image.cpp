@@ -1,9 +1,10 @@
-// Images from Python: bloom, the 8-bit display encoding and the EXR writer the
+// Images from Python: denoising, bloom, the 8-bit display encoding and the EXR writer the
 // CLI uses, so the job service's tiles, image.png and image.exr match
 // rtrender's output.
 #include "rtcore_image.h"
 
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -11,10 +12,13 @@
 
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/map.h>
+#include <nanobind/stl/optional.h>
 #include <nanobind/stl/string.h>
 
 #include "image/aov.h"
 #include "image/bloom.h"
+#include "image/denoise.h"
+#include "image/oidn_library.h"
 #include "image/display.h"
 #include "image/image.h"
 #include "rtcore_convert.h"
@@ -63,7 +67,8 @@ nb::ndarray<nb::numpy, float> apply_bloom(const Rgb& rgb, nb::handle settings) {
     return to_numpy(std::move(image.rgb), {h, w, 3});
 }
 
-void write_exr(const std::string& path, const Rgb& color, const std::map<std::string, Layer>& aux) {
+void write_exr(const std::string& path, const Rgb& color, const std::map<std::string, Layer>& aux,
+               std::optional<Rgb> noisy) {
     const auto [height, width] = rgb_size(color, "write_exr");
     const uint32_t h = uint32_t(height), w = uint32_t(width);
     const size_t pixels = size_t(w) * h;
@@ -71,6 +76,13 @@ void write_exr(const std::string& path, const Rgb& color, const std::map<std::st
     std::copy(color.data(), color.data() + pixels * 3, image.rgb.begin());
 
     std::vector<rt::AuxOutput> outputs;
+    rt::Image before;
+    if (noisy) {
+        if (rgb_size(*noisy, "write_exr") != std::pair<size_t, size_t>(height, width))
+            throw std::invalid_argument("write_exr: the noisy image is not the colour's size");
+        before = rt::Image(w, h);
+        std::copy(noisy->data(), noisy->data() + pixels * 3, before.rgb.begin());
+    }
     for (const auto& [name, layer] : aux) outputs.push_back(rt::parse_aux_output(name));
     rt::AuxImage layers(w, h, outputs);
     for (const auto& [name, layer] : aux) {
@@ -85,7 +97,20 @@ void write_exr(const std::string& path, const Rgb& color, const std::map<std::st
         });
     }
     nb::gil_scoped_release release;
-    rt::write_image(path, image, outputs.empty() ? nullptr : &layers);
+    rt::write_image(path, image, outputs.empty() ? nullptr : &layers, {}, noisy ? &before : nullptr);
+}
+
+nb::ndarray<nb::numpy, float> denoise(const Rgb& color, const Rgb& albedo, const Rgb& normal, unsigned threads) {
+    const auto size = rgb_size(color, "denoise");
+    if (rgb_size(albedo, "denoise") != size || rgb_size(normal, "denoise") != size)
+        throw std::invalid_argument("denoise(): albedo and normal must have the colour's shape");
+    const auto [h, w] = size;
+    std::vector<float> out(h * w * 3);
+    {
+        nb::gil_scoped_release release;
+        rt::denoise_oidn(uint32_t(w), uint32_t(h), color.data(), albedo.data(), normal.data(), out.data(), threads);
+    }
+    return to_numpy(std::move(out), {h, w, 3});
 }
 
 }  // namespace
@@ -101,8 +126,18 @@ void bind_images(nb::module_& m) {
           "array's), as rtrender applies it before writing. The image's sum is unchanged; strength 0 "
           "returns a copy.");
     m.def("write_exr", &write_exr, "path"_a, "color"_a, "aux"_a = std::map<std::string, Layer>{},
-          "Writes linear colour and auxiliary layers ({'depth': (h, w), 'normal': (h, w, 3), ...}, float32) "
-          "as one EXR with rtrender's channel names.");
+          "noisy"_a = nb::none(),
+          "Writes linear colour, auxiliary layers ({'depth': (h, w), 'normal': (h, w, 3), ...}, float32) and "
+          "the image before denoising (noisy, (h, w, 3), as channels noisy.R, noisy.G, noisy.B) as one EXR with "
+          "rtrender's channel names.");
+    m.def("denoise", &denoise, "color"_a, "albedo"_a, "normal"_a, "threads"_a = 0,
+          "A new linear RGB float32 (h, w, 3) array: color denoised by Open Image Denoise's RT filter (HDR) "
+          "with the albedo and normal layers ((h, w, 3) float32, as render_tile answers them) as guides, on "
+          "up to `threads` threads (0: all). Pixels that are not finite keep their values. RuntimeError when "
+          "OIDN cannot be loaded (rtcore.denoiser_library() says which file was).");
+    m.def("denoiser_library", &rt::oidn::loaded_library,
+          "The Open Image Denoise library this process loaded, or '' when none could be (or none was asked for "
+          "yet).");
 }
 
 }  // namespace rtcore

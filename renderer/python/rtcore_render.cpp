@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "image/aov.h"
+#include "image/denoise.h"
 #include "integrator/default_camera.h"
 #include "integrator/render.h"
 #include "rtcore_convert.h"
@@ -151,7 +152,11 @@ nb::ndarray<nb::numpy, float> PyScene::render(nb::handle camera, nb::handle sett
     {
         nb::gil_scoped_release release;
         rt::RenderStats stats;
-        image = renderer.render(threads, tile_size, nullptr, stats);
+        // A whole image is denoised as rtrender denoises it; tiles never are.
+        rt::AuxImage guides(renderer.settings().width(), renderer.settings().height(),
+                            rt::denoise_guides(renderer.settings()));
+        image = renderer.render(threads, tile_size, nullptr, stats, &guides);
+        rt::apply_denoise(image, guides, renderer.settings(), threads);
     }
     const size_t w = image.width, h = image.height;
     return to_numpy(std::move(image.rgb), {h, w, 3});

@@ -54,6 +54,6 @@ def test_unknown_or_missing_layers_are_named_in_a_404(client, cornell_id):
     unknown = client.get(f"/api/jobs/{job['id']}/layers/..%2Fsecret")
     assert unknown.status_code == 404
     wrong = client.get(f"/api/jobs/{job['id']}/layers/colour")
-    assert wrong.status_code == 404 and "one of: color, depth" in wrong.json()["detail"]
+    assert wrong.status_code == 404 and "one of: color, noisy, depth" in wrong.json()["detail"]
     nobody = client.get("/api/jobs/nojob/layers/color")
     assert nobody.status_code == 404 and "nojob" in nobody.json()["detail"]

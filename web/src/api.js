@@ -167,15 +167,18 @@ function decodeLayer(name, bytes) {
 }
 
 /** Job `jobId`'s image measured against `referenceId`'s: rt.ImageComparison, over `rect` ({x, y, w, h}) or all. */
-export async function compareJobs(jobId, referenceId, rect = null) {
-  const query = rect ? `?x=${rect.x}&y=${rect.y}&w=${rect.w}&h=${rect.h}` : "";
-  const path = `/api/jobs/${encodeURIComponent(jobId)}/compare/${encodeURIComponent(referenceId)}${query}`;
+export async function compareJobs(jobId, referenceId, rect = null, referenceLayer = "color") {
+  const query = new URLSearchParams(rect ? { x: rect.x, y: rect.y, w: rect.w, h: rect.h } : {});
+  if (referenceLayer !== "color") query.set("reference_layer", referenceLayer);
+  const path = `/api/jobs/${encodeURIComponent(jobId)}/compare/${encodeURIComponent(referenceId)}`
+    + (query.size ? `?${query}` : "");
   return parseJson("ImageComparison", await request("GET", path));
 }
 
-/** The HDR-FLIP map of a job against a reference, as jobLayer answers a layer. */
-export async function flipMap(jobId, referenceId) {
-  const path = `/api/jobs/${encodeURIComponent(jobId)}/compare/${encodeURIComponent(referenceId)}/flip`;
+/** The HDR-FLIP map of a job against a reference ("noisy": its image before denoising), as jobLayer answers a layer. */
+export async function flipMap(jobId, referenceId, referenceLayer = "color") {
+  const query = referenceLayer === "color" ? "" : `?reference_layer=${encodeURIComponent(referenceLayer)}`;
+  const path = `/api/jobs/${encodeURIComponent(jobId)}/compare/${encodeURIComponent(referenceId)}/flip${query}`;
   return decodeLayer("flip", await requestBytes(path));
 }
 

@@ -1,4 +1,5 @@
-// A/B: the open job (A) against another done job of the same size (B). It
+// A/B: the open job (A) against another done job of the same size (B), or a
+// denoised job's image before denoising (A itself too: what denoising did). It
 // picks B among the jobs, loads B's linear colour and, for the HDR-FLIP map,
 // the server's map; it shows the server's metrics (RMSE, relative MSE, mean
 // HDR-FLIP, as `make charts` measures them) for the whole image and for the
@@ -6,10 +7,16 @@
 // what the image view shows must change.
 import { compareJobs, flipMap, jobLayer, listJobs } from "./api.js";
 import { ERROR_KINDS, errorLayer } from "./error-maps.js";
+import { isDenoised as denoised } from "./job-layers.js";
 import { enumName } from "./proto.js";
 
 const $ = (id) => document.getElementById(id);
 const fmt = (v) => Number(v.toPrecision(4)).toString();
+/** B's job and colour layer from its choice's value ("<id>" or "<id>:noisy"). */
+const parseB = (value) => {
+  const [id, layer = "color"] = value.split(":");
+  return { id, layer };
+};
 
 export const COMPARE_MODES = {
   wipe: "A | B wipe", flip: "Flip A/B (key X)",
@@ -24,7 +31,7 @@ export class ComparePanel extends EventTarget {
     this.modeSelect = $("compare-mode");
     this.metrics = $("compare-metrics");
     this.job = null;
-    this.other = null; // B's job id
+    this.other = null; // B: its job's id, with ":noisy" for that job's image before denoising
     this.b = null; // B's colour layer
     this.flip = null; // the HDR-FLIP map of A against B, once asked for
     this.showB = false; // what Flip shows
@@ -59,8 +66,11 @@ export class ComparePanel extends EventTarget {
       && j.request.settings.width === width && j.request.settings.height === height);
     if (ticket !== this._ticket) return;
     const label = (j) => `${j.id.slice(0, 8)} · ${j.request.settings.samplesPerPixel} spp`
-      + `${j.id === job.id ? " (this job)" : ""}`;
-    this.jobSelect.replaceChildren(new Option("–", ""), ...list.map((j) => new Option(label(j), j.id)));
+      + `${denoised(j) ? " · denoised" : ""}${j.id === job.id ? " (this job)" : ""}`;
+    this.jobSelect.replaceChildren(new Option("–", ""), ...list.flatMap((j) => [
+      new Option(label(j), j.id),
+      ...(denoised(j) ? [new Option(`${label(j)} before denoising`, `${j.id}:noisy`)] : []),
+    ]));
   }
 
   _clear() {
@@ -75,23 +85,24 @@ export class ComparePanel extends EventTarget {
     this.jobSelect.value = "";
   }
 
-  async _pick(other) {
+  async _pick(value) {
     const job = this.job;
     this._clear();
-    this.jobSelect.value = other;
-    if (!other || !job) return this.dispatchEvent(new Event("change"));
-    this._say(`Loading job ${other.slice(0, 8)}…`);
+    this.jobSelect.value = value;
+    if (!value || !job) return this.dispatchEvent(new Event("change"));
+    const { id, layer } = parseB(value);
+    this._say(`Loading job ${id.slice(0, 8)}…`);
     try {
-      const [b, whole] = await Promise.all([jobLayer(other, "color"), compareJobs(job.id, other)]);
-      if (this.job?.id !== job.id || this.jobSelect.value !== other) return;
-      this.other = other;
+      const [b, whole] = await Promise.all([jobLayer(id, layer), compareJobs(job.id, id, null, layer)]);
+      if (this.job?.id !== job.id || this.jobSelect.value !== value) return;
+      this.other = value;
       this.b = { ...b, name: "B" };
       this.whole = whole;
       this.modeSelect.disabled = false;
       this._showMetrics(whole, null);
       await this._modeChanged();
     } catch (e) {
-      this._say(`Job ${other.slice(0, 8)} could not be compared: ${e.message}`);
+      this._say(`Job ${id.slice(0, 8)} could not be compared: ${e.message}`);
     }
   }
 
@@ -99,7 +110,8 @@ export class ComparePanel extends EventTarget {
     if (this.mode === "flip-map" && this.active && !this.flip) {
       const other = this.other;
       try {
-        const map = await flipMap(this.job.id, other);
+        const { id, layer } = parseB(other);
+        const map = await flipMap(this.job.id, id, layer);
         if (this.other === other) this.flip = map;
       } catch (e) {
         this._say(`The HDR-FLIP map could not be made: ${e.message}`);
@@ -113,7 +125,9 @@ export class ComparePanel extends EventTarget {
   async measure(rect) {
     if (!this.active) return;
     const other = this.other;
-    const part = rect ? await compareJobs(this.job.id, other, { x: rect.x0, y: rect.y0, w: rect.x1 - rect.x0, h: rect.y1 - rect.y0 }) : null;
+    const { id, layer } = parseB(other);
+    const part = rect ? await compareJobs(this.job.id, id,
+      { x: rect.x0, y: rect.y0, w: rect.x1 - rect.x0, h: rect.y1 - rect.y0 }, layer) : null;
     if (this.other === other) this._showMetrics(this.whole, part);
   }
 

@@ -2,7 +2,8 @@
 // job's auxiliary outputs; "BVH cost" is the server's heat map of BVH nodes
 // visited per pixel, where rays are expensive.
 import { heatRampUrl, jobImageUrl } from "./api.js";
-import { enumChoices, enumName } from "./proto.js";
+import { layerNames } from "./job-layers.js";
+import { enumChoices } from "./proto.js";
 import { labelOf } from "./settings-panel.js";
 
 export class ImageLayers extends EventTarget {
@@ -34,7 +35,7 @@ export class ImageLayers extends EventTarget {
   /** Which layers a job offers: colour always, auxiliary ones once it is done. */
   setJob(job, done = false) {
     this.job = job;
-    const outputs = new Set((job?.request?.outputs ?? []).map((o) => enumName("AuxOutput", o).toLowerCase()));
+    const outputs = new Set(job ? layerNames(job) : []);
     for (const [name, button] of this.buttons) {
       const available = name === "image" ? !!job : done && outputs.has(name);
       button.disabled = !available;

@@ -9,14 +9,11 @@ import { DragHandle } from "./drag-handle.js";
 import { ERROR_KINDS } from "./error-maps.js";
 import { ImageControls } from "./image-controls.js";
 import { ImageView } from "./image-view.js";
+import { layerNames } from "./job-layers.js";
 import { PixelReadout } from "./pixel-readout.js";
 import { enumName } from "./proto.js";
 
 const $ = (id) => document.getElementById(id);
-
-/** The layer names a job has: "color" and its auxiliary outputs in lower case. */
-export const layerNames = (job) =>
-  ["color", ...job.request.outputs.map((o) => enumName("AuxOutput", o).toLowerCase())];
 
 export class ImageWorkspace {
   constructor(tiles, debug) {

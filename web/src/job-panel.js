@@ -1,6 +1,7 @@
 // The current job's progress (bar, tiles done/total, elapsed, time left),
 // cancel and downloads, and the job history with thumbnails.
 import { cancelJob, jobImageUrl, listJobs } from "./api.js";
+import { layerNames } from "./job-layers.js";
 import { enumName } from "./proto.js";
 
 const ACTIVE = new Set(["QUEUED", "RUNNING"]);
@@ -96,10 +97,7 @@ export class JobPanel extends EventTarget {
     box.replaceChildren();
     if (state !== "DONE") return;
     const links = [["PNG", jobImageUrl(job.id, "image", "png")], ["EXR", jobImageUrl(job.id, "image", "exr")]];
-    for (const output of job.request?.outputs ?? []) {
-      const name = enumName("AuxOutput", output).toLowerCase();
-      links.push([`${name} PNG`, jobImageUrl(job.id, name, "png")]);
-    }
+    for (const name of layerNames(job).slice(1)) links.push([`${name} PNG`, jobImageUrl(job.id, name, "png")]);
     for (const [label, href] of links) {
       const a = document.createElement("a");
       a.href = href;

@@ -12,7 +12,7 @@ const INTEGER_SCALARS = new Set([ScalarType.INT32, ScalarType.UINT32, ScalarType
   ScalarType.SFIXED32, ScalarType.INT64, ScalarType.UINT64, ScalarType.SINT64, ScalarType.FIXED64, ScalarType.SFIXED64]);
 
 // Acronyms with vowels, which the rule below cannot tell from words.
-const ACRONYMS = new Set(["aces"]);
+const ACRONYMS = new Set(["aces", "oidn"]);
 
 // A field or enum value name in words: "max_depth" is "Max depth"; a word
 // without vowels is an acronym ("BVH_COST" is "BVH cost").

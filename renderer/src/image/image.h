@@ -29,10 +29,11 @@ struct Image {
 // Format by extension (.png or .exr). A PNG holds the colour through
 // `display` (exposure, tone map, sRGB 8-bit). An EXR holds the linear R, G, B
 // and then the channels of each layer `aux` holds (aux_channel_names:
-// "depth.Z", ...), BVH costs as floats. Throws std::invalid_argument for
-// auxiliary layers in a PNG, which holds colour only, and std::runtime_error
-// naming the file when writing fails.
+// "depth.Z", ...), BVH costs as floats, and last the image before denoising,
+// when given ("noisy.R", "noisy.G", "noisy.B"). Throws std::invalid_argument
+// for auxiliary layers or a noisy image in a PNG, which holds colour only, and
+// std::runtime_error naming the file when writing fails.
 void write_image(const std::filesystem::path& file, const Image& image, const AuxImage* aux = nullptr,
-                 const DisplayTransform& display = {});
+                 const DisplayTransform& display = {}, const Image* noisy = nullptr);
 
 }  // namespace rt

@@ -10,6 +10,7 @@
 
 #include "geometry/accel.h"
 #include "geometry/surface.h"
+#include "geometry/surface_material.h"
 #include "image/aov.h"
 #include "integrator/whitted.h"
 #include "rt/debug.pb.h"
@@ -19,6 +20,18 @@ namespace recorders {
 
 inline void count(RayCounts& counts, RayKind kind) {
     (kind == PRIMARY ? counts.camera : kind == REFRACTION ? counts.refraction : counts.reflection) += 1;
+}
+
+// Shadow rays from one point towards one light as packets of up to
+// Accelerator::kPacketSize, which share their origin (shadows_of).
+inline void packet_shadows(RayCounts& counts, const Accelerator& accel, std::span<const Ray> rays, float* visibility,
+                           int* ids) {
+    counts.shadow += rays.size();
+    for (size_t first = 0; first < rays.size(); first += Accelerator::kPacketSize) {
+        const size_t n = std::min<size_t>(Accelerator::kPacketSize, rays.size() - first);
+        accel.visibility(rays.subspan(first, n), std::span(visibility + first, n));
+    }
+    std::fill_n(ids, rays.size(), -1);
 }
 
 // The hot path: counts rays, records nothing.
@@ -43,18 +56,11 @@ struct CountingRecorder {
         visibility = accel.visibility(ray);
         return -1;
     }
-    // Shadow rays from one point towards one light: packets of up to
-    // Accelerator::kPacketSize, which share their origin (shadows_of).
     void shadows(const Accelerator& accel, std::span<const Ray> rays, uint32_t, int, uint32_t, float* visibility,
                  int* ids) {
-        counts.shadow += rays.size();
-        for (size_t first = 0; first < rays.size(); first += Accelerator::kPacketSize) {
-            const size_t n = std::min<size_t>(Accelerator::kPacketSize, rays.size() - first);
-            accel.visibility(rays.subspan(first, n), std::span(visibility + first, n));
-        }
-        std::fill_n(ids, rays.size(), -1);
+        packet_shadows(counts, accel, rays, visibility, ids);
     }
-    void surface(int, const SurfaceHit&, const Hit&, const Material&, vec3) {}
+    void surface(int, const SurfaceHit&, const Hit&, const Material&, const SurfaceMaterial&) {}
     void light(int, const Ray&, float, const Light&, vec3) {}
     void contribution(int, vec3) {}
 };
@@ -67,40 +73,80 @@ void shadows_one_by_one(Recorder& recorder, const Accelerator& accel, std::span<
         ids[i] = recorder.shadow(accel, rays[i], depth, parent, light, visibility[i]);
 }
 
-// The hot path's counts plus the auxiliary outputs: every ray's traversal
-// cost, and the primary hit's surface. Like the debugger's, its segment 0 is
-// the primary ray.
+// The hot path's counts plus the auxiliary outputs (aov.h): the primary hit's
+// depth; the albedo and normal of the surface that shows in the pixel, the
+// camera ray's hit or, when that is mostly mirror or glass, the first surface
+// past it that is not (as Open Image Denoise asks of its guides: a mirror's
+// own colour says nothing of what it shows); and, with `costs`, every ray's
+// BVH traversal cost. Without costs the rays take the hot path's queries,
+// shadow packets and a camera ray's packet hit (`primary`) included.
 struct AuxRecorder {
     RayCounts& counts;
     AuxSample& aux;
+    bool costs = true;
+    const Hit* primary = nullptr;
+    int segments = 0;          // closest-hit rays traced so far: the next one's id
+    int guide = 0;             // the segment whose surface gives albedo and normal
+    RayKind passes = PRIMARY;  // the kind of ray that passes the guide on (PRIMARY: none)
+    vec3 tint{1.0f};           // the path weight of the guide's ray: the mirrors' and glass's colour
 
-    int closest(const Accelerator& accel, const Ray& ray, RayKind kind, uint32_t, int, vec3, Hit& hit) {
+    int closest(const Accelerator& accel, const Ray& ray, RayKind kind, uint32_t, int parent, vec3 weight,
+                Hit& hit) {
         count(counts, kind);
-        accel.intersect(ray, hit, aux.cost);
-        if (kind != PRIMARY) return -1;
+        if (primary) {
+            hit = *primary;
+            primary = nullptr;
+        } else if (costs) {
+            accel.intersect(ray, hit, aux.cost);
+        } else {
+            accel.intersect(ray, hit);
+        }
+        const int id = segments++;
         // Camera rays have unit directions: t is the distance.
-        if (hit.found()) aux.depth = hit.t;
-        return 0;
+        if (kind == PRIMARY && hit.found()) aux.depth = hit.t;
+        // Glass passes the guide on through its refraction, or its reflection
+        // when the light cannot get through (total internal reflection).
+        if (parent == guide && passes != PRIMARY && (kind == passes || passes == REFRACTION)) {
+            guide = id;
+            passes = PRIMARY;
+            tint = weight;
+        }
+        return id;
     }
     int shadow(const Accelerator& accel, const Ray& ray, uint32_t, int, uint32_t, float& visibility) {
         ++counts.shadow;
-        visibility = accel.visibility(ray, aux.cost);
+        visibility = costs ? accel.visibility(ray, aux.cost) : accel.visibility(ray);
         return -1;
     }
     void shadows(const Accelerator& accel, std::span<const Ray> rays, uint32_t depth, int parent, uint32_t light,
                  float* visibility, int* ids) {
-        shadows_one_by_one(*this, accel, rays, depth, parent, light, visibility, ids);
+        if (costs)
+            shadows_one_by_one(*this, accel, rays, depth, parent, light, visibility, ids);
+        else
+            packet_shadows(counts, accel, rays, visibility, ids);
     }
-    void surface(int segment, const SurfaceHit& s, const Hit&, const Material&, vec3 diffuse) {
-        if (segment != 0) return;
+    void surface(int segment, const SurfaceHit& s, const Hit&, const Material& m, const SurfaceMaterial& sm) {
+        if (segment != guide) return;
         aux.normal = s.ns;
-        aux.albedo = diffuse;
+        // The shares of the light the surface sends back as the integrator
+        // splits them: Phong (diffuse), mirror, and what passes (glass, and
+        // the uncovered part of a BLEND surface).
+        const vec3 opaque = sm.coverage * (vec3(1.0f) - m.transmission);
+        const vec3 mirror = opaque * sm.reflectance;
+        const vec3 through = sm.coverage * m.transmission + vec3(1.0f - sm.coverage);
+        const float delta = max_component(mirror + through);
+        if (delta <= max_component(opaque * sm.diffuse)) {
+            aux.albedo = tint * sm.diffuse;
+            return;
+        }
+        // Until a ray shows what lies past it, the mirror's or glass's own colour.
+        aux.albedo = glm::min(tint * (mirror + through), vec3(1.0f));
+        passes = max_component(through) >= max_component(mirror) ? REFRACTION : REFLECTION;
     }
     // A light has no albedo; its normal faces the camera, which is outside it.
     void light(int segment, const Ray& ray, float t, const Light& light, vec3) {
-        if (segment != 0) return;
-        aux.depth = t;
-        aux.normal = glm::normalize(ray.at(t) - light.position);
+        if (segment == 0) aux.depth = t;
+        if (segment == guide) aux.normal = glm::normalize(ray.at(t) - light.position);
     }
     void contribution(int, vec3) {}
 };
@@ -166,7 +212,7 @@ struct DebugRecorder {
                  float* visibility, int* ids) {
         shadows_one_by_one(*this, accel, rays, depth, parent, light, visibility, ids);
     }
-    void surface(int index, const SurfaceHit& s, const Hit& hit, const Material& m, vec3) {
+    void surface(int index, const SurfaceHit& s, const Hit& hit, const Material& m, const SurfaceMaterial&) {
         RaySegment& segment = *path.mutable_segments(index);
         set_vec3(segment.mutable_end(), s.p);
         set_vec3(segment.mutable_normal(), s.ns);

@@ -128,7 +128,7 @@ RenderStats Renderer::render_pixels(const TileRect& tile, uint32_t scale, float*
     // was 8% slower on the dragon than 32-pixel tiles).
     for (uint32_t block_y = 0; block_y < rows; block_y += kCacheBlock) {
         for (uint32_t block_x = 0; block_x < columns; block_x += kCacheBlock) {
-            if (packets_ && aux.empty()) {
+            if (packets_ && !aux.bvh_cost) {
                 // 4 x 4 pixels at a time, their camera rays one packet per sample.
                 for (uint32_t j0 = block_y; j0 < std::min(rows, block_y + kCacheBlock); j0 += 4)
                     for (uint32_t i0 = block_x; i0 < std::min(columns, block_x + kCacheBlock); i0 += 4) {
@@ -139,7 +139,7 @@ RenderStats Renderer::render_pixels(const TileRect& tile, uint32_t scale, float*
                                 if (known_stride != 0 && y % known_stride == 0 && x % known_stride == 0) continue;
                                 block.add(x, y, j * row_pixels + i);
                             }
-                        render_packet(block, rgb, stats, stop);
+                        render_packet(block, rgb, aux, stats, stop);
                     }
                 continue;
             }
@@ -164,7 +164,7 @@ RenderStats Renderer::render_pixels(const TileRect& tile, uint32_t scale, float*
     return stats;
 }
 
-void Renderer::render_packet(const PacketPixels& block, float* rgb, RenderStats& stats,
+void Renderer::render_packet(const PacketPixels& block, float* rgb, const AuxLayers& aux, RenderStats& stats,
                              const std::stop_token& stop) const {
     const uint32_t count = settings_.samples_per_pixel();
     // When time is sampled, a pixel's samples are spread over the shutter
@@ -179,6 +179,8 @@ void Renderer::render_packet(const PacketPixels& block, float* rgb, RenderStats&
     // A lone sample's mean is the sample itself, bit for bit, as
     // estimate_frame returns it.
     std::array<PixelEstimate, Accelerator::kPacketSize> estimates;
+    std::array<AuxPixel, Accelerator::kPacketSize> aux_pixels;
+    const bool with_aux = !aux.empty();
     uint32_t sampling = (1u << block.count) - 1;  // the pixels still taking samples
     constexpr uint32_t kPacket = Accelerator::kPacketSize, kMaxRays = kPacket * StoppingRule::kBatch;
     // Uninitialised: every ray traced is made first, every hit found first.
@@ -223,13 +225,21 @@ void Renderer::render_packet(const PacketPixels& block, float* rgb, RenderStats&
             for (uint32_t left = sampling; left != 0; left &= left - 1) {
                 const uint32_t k = uint32_t(std::countr_zero(left)), r = slot[s * kPacket + k];
                 const PixelSampler sampler(block.key[k], count == 1 ? 0 : first + s);
-                estimates[k].add(integrator_.radiance(rays.at[r], hits.at[r], sampler, stats.rays, cone_));
+                if (with_aux) {
+                    AuxSample sample;
+                    estimates[k].add(
+                        integrator_.radiance(rays.at[r], sampler, stats.rays, sample, cone_, false, &hits.at[r]));
+                    aux_pixels[k].add(sample);
+                } else {
+                    estimates[k].add(integrator_.radiance(rays.at[r], hits.at[r], sampler, stats.rays, cone_));
+                }
                 if (stopping_.done(estimates[k])) sampling &= ~(1u << k);
             }
     }
     for (uint32_t k = 0; k < block.count; ++k) {
         const vec3 c = estimates[k].mean();
         stats.samples += estimates[k].count();
+        if (with_aux) aux.store(block.index[k], aux_pixels[k].mean());
         float* out = rgb + block.index[k] * 3;
         out[0] = c.r;
         out[1] = c.g;
@@ -247,7 +257,7 @@ vec3 Renderer::render_pixel(uint32_t x, uint32_t y, size_t index, const AuxLayer
     AuxPixel pixel;
     const vec3 c = estimate_pixel(x, y, stats.samples, [&](const Ray& ray, const PixelSampler& sampler) {
         AuxSample sample;
-        const vec3 radiance = integrator_.radiance(ray, sampler, stats.rays, sample, cone_);
+        const vec3 radiance = integrator_.radiance(ray, sampler, stats.rays, sample, cone_, aux.bvh_cost != nullptr);
         pixel.add(sample);
         return radiance;
     });

@@ -119,9 +119,12 @@ class Renderer {
     // The colours of `block`'s pixels, each sample's camera rays traced as one
     // packet (Accelerator::intersect over a span), each pixel's samples taken
     // in their own order and stopped by their own rule: each pixel gets the
-    // value render_pixel gives it. For the colour alone of a scene the packet
-    // path serves, unless motion is rendered as frames (packets_).
-    void render_packet(const PacketPixels& block, float* rgb, RenderStats& stats, const std::stop_token& stop) const;
+    // value render_pixel gives it, and the same auxiliary outputs. For a scene
+    // the packet path serves, unless motion is rendered as frames (packets_),
+    // and for every output but the BVH cost, which counts every ray's own
+    // traversal.
+    void render_packet(const PacketPixels& block, float* rgb, const AuxLayers& aux, RenderStats& stats,
+                       const std::stop_token& stop) const;
     // Pixels per side of the blocks a tile is walked in.
     static constexpr uint32_t kCacheBlock = 16;
     // The mean of pixel (x, y)'s samples, `trace(ray, sampler)` giving each

@@ -132,8 +132,8 @@ vec3 WhittedIntegrator::radiance(const Ray& ray, const Hit& primary, const Pixel
 }
 
 vec3 WhittedIntegrator::radiance(const Ray& ray, const PixelSampler& sampler, RayCounts& counts, AuxSample& aux,
-                                 RayCone cone) const {
-    AuxRecorder recorder{counts, aux};
+                                 RayCone cone, bool costs, const Hit* primary) const {
+    AuxRecorder recorder{counts, aux, costs, primary};
     return trace(ray, cone, PRIMARY, 0, vec3(1.0f), -1, sampler, recorder);
 }
 
@@ -195,7 +195,7 @@ vec3 WhittedIntegrator::trace(const Ray& ray, RayCone cone, RayKind kind, uint32
     const Material& m = scene_.materials[s.material];
     if (m.normal_texture) apply_normal_map(scene_, m, hit, authored, wo, s);
     const SurfaceMaterial sm = surface_material(scene_, m, s);
-    recorder.surface(segment, s, hit, m, sm.diffuse);
+    recorder.surface(segment, s, hit, m, sm);
 
     // Light that passes the dielectric interface never reaches the Phong
     // surface; an opaque material's opacity of exactly 1 leaves it unchanged.

@@ -70,10 +70,12 @@ class WhittedIntegrator {
     vec3 radiance(const Ray& ray, const Hit& primary, const PixelSampler& sampler, RayCounts& counts,
                   RayCone cone = {}) const;
 
-    // The same, also reporting the primary hit's depth, normal and albedo and
-    // the BVH traversal cost of every ray traced (aov.h).
+    // The same, also reporting the primary hit's depth, the albedo and normal
+    // of the surface the pixel shows (past mirrors and glass) and, with
+    // `costs`, the BVH traversal cost of every ray traced (aov.h). `primary`:
+    // the camera ray's hit when a packet found it (costs false only).
     vec3 radiance(const Ray& ray, const PixelSampler& sampler, RayCounts& counts, AuxSample& aux,
-                  RayCone cone = {}) const;
+                  RayCone cone = {}, bool costs = true, const Hit* primary = nullptr) const;
 
     // The same, recording every ray it traces into `path` for the debugger.
     vec3 radiance(const Ray& ray, const PixelSampler& sampler, DebugPath& path, RayCone cone = {}) const;

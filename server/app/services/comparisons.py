@@ -12,6 +12,7 @@ folder, and every rectangle reads it.
 from __future__ import annotations
 
 import threading
+from dataclasses import dataclass
 from pathlib import Path
 
 import flip_evaluator
@@ -19,7 +20,7 @@ import numpy as np
 from rt import job_pb2
 
 from . import layer_files
-from .errors import Invalid
+from .errors import Invalid, NotFound
 
 # tev's relative MSE: error^2 / (reference^2 + this), so that black pixels do not divide by zero.
 RELATIVE_EPSILON = 0.01
@@ -27,24 +28,37 @@ RELATIVE_EPSILON = 0.01
 _flip_lock = threading.Lock()  # one map at a time: each takes a core for seconds
 
 
-def _color(folder: Path) -> np.ndarray:
-    return np.ascontiguousarray(layer_files.load(folder, "color"), dtype=np.float32)
+@dataclass(frozen=True)
+class Side:
+    """One image of a comparison: a done job's folder and which of its colour
+    layers ("color", or "noisy": a denoised job's image before denoising)."""
+    job_id: str
+    folder: Path
+    layer: str = "color"
+
+    def load(self) -> np.ndarray:
+        try:
+            return np.ascontiguousarray(layer_files.load(self.folder, self.layer), dtype=np.float32)
+        except FileNotFoundError:
+            raise NotFound(f"job '{self.job_id}' has no {self.layer} layer") from None
 
 
-def _pair(folder: Path, reference_folder: Path, job_id: str, reference_id: str) -> tuple[np.ndarray, np.ndarray]:
-    """Both colours, refused unless they are the same size."""
-    image, reference = _color(folder), _color(reference_folder)
-    if image.shape != reference.shape:
-        raise Invalid(f"job '{job_id}' is {image.shape[1]}x{image.shape[0]} and reference '{reference_id}' "
-                      f"{reference.shape[1]}x{reference.shape[0]}: compare images of the same size")
-    return image, reference
+def _pair(image: Side, reference: Side) -> tuple[np.ndarray, np.ndarray]:
+    """Both images, refused unless they are the same size."""
+    a, b = image.load(), reference.load()
+    if a.shape != b.shape:
+        raise Invalid(f"job '{image.job_id}' is {a.shape[1]}x{a.shape[0]} and reference '{reference.job_id}' "
+                      f"{b.shape[1]}x{b.shape[0]}: compare images of the same size")
+    return a, b
 
 
-def flip(image: np.ndarray, reference: np.ndarray, folder: Path, reference_id: str) -> tuple[np.ndarray, float]:
-    """The HDR-FLIP map (h, w) of a job's colour against the reference's, and
-    its mean as flip-evaluator reports it (the number make charts prints);
-    kept in the job's folder."""
-    cached = folder / "compare" / f"{reference_id}.flip.npz"
+def flip(image: np.ndarray, reference: np.ndarray, sides: tuple[Side, Side]) -> tuple[np.ndarray, float]:
+    """The HDR-FLIP map (h, w) of one image against the reference, and its
+    mean as flip-evaluator reports it (the number make charts prints); kept
+    in the job's folder."""
+    mine, theirs = sides
+    layers = "" if mine.layer == theirs.layer == "color" else f".{mine.layer}-{theirs.layer}"
+    cached = mine.folder / "compare" / f"{theirs.job_id}{layers}.flip.npz"
     with _flip_lock:
         if not cached.is_file():
             error_map, mean, _ = flip_evaluator.evaluate(reference, image, "HDR", applyMagma=False)
@@ -66,25 +80,25 @@ def region(width: int, height: int, rect: tuple[int, int, int, int] | None) -> t
     return rect
 
 
-def compare(folder: Path, reference_folder: Path, job_id: str, reference_id: str,
-            rect: tuple[int, int, int, int] | None) -> job_pb2.ImageComparison:
-    """The job's colour against the reference's over `rect` (x, y, w, h) or all of it."""
-    image, reference = _pair(folder, reference_folder, job_id, reference_id)
+def compare(mine: Side, theirs: Side, rect: tuple[int, int, int, int] | None) -> job_pb2.ImageComparison:
+    """One image against the reference's over `rect` (x, y, w, h) or all of it."""
+    image, reference = _pair(mine, theirs)
     x, y, w, h = region(image.shape[1], image.shape[0], rect)
     window = np.s_[y:y + h, x:x + w]
     error = image[window].astype(np.float64) - reference[window]
     squared = error ** 2
-    error_map, whole_mean = flip(image, reference, folder, reference_id)
+    error_map, whole_mean = flip(image, reference, (mine, theirs))
     mean_flip = whole_mean if rect is None else float(error_map[window].astype(np.float64).mean())
     return job_pb2.ImageComparison(
-        job_id=job_id, reference_id=reference_id, x=x, y=y, w=w, h=h,
+        job_id=mine.job_id, reference_id=theirs.job_id, layer=mine.layer, reference_layer=theirs.layer,
+        x=x, y=y, w=w, h=h,
         rmse=float(np.sqrt(squared.mean())),
         relative_mse=float((squared / (reference[window].astype(np.float64) ** 2 + RELATIVE_EPSILON)).mean()),
         mean_flip=mean_flip)
 
 
-def flip_layer(folder: Path, reference_folder: Path, job_id: str, reference_id: str) -> bytes:
+def flip_layer(mine: Side, theirs: Side) -> bytes:
     """The HDR-FLIP map as a serialized rt.Layer (one float32 channel, "flip")."""
-    error_map, _ = flip(*_pair(folder, reference_folder, job_id, reference_id), folder, reference_id)
+    error_map, _ = flip(*_pair(mine, theirs), (mine, theirs))
     values = np.ascontiguousarray(error_map[..., None], dtype="<f4")
     return layer_files.layer_message("flip", values, ["flip"]).SerializeToString()

@@ -1,5 +1,6 @@
 """A job's finished images, made from its layer files (layer_files.py): the
-bloom pass, image.png, image.exr and the auxiliary layers as pictures.
+last pass (denoising and bloom), image.png, image.exr and the auxiliary layers
+as pictures.
 
 Tiles and image.png are encoded to sRGB by the same function (the renderer's
 own), so a viewer that paints every tile holds exactly image.png.
@@ -8,11 +9,13 @@ own), so a viewer that paints every tile holds exactly image.png.
 from __future__ import annotations
 
 import io
+import time
 from pathlib import Path
 
 import numpy as np
 import rtcore
 from PIL import Image
+from rt import render_pb2
 
 from . import layer_files
 
@@ -73,13 +76,26 @@ def aux_preview(name: str, layer: np.ndarray) -> np.ndarray:
     return np.concatenate([rgb, np.full((h, w, 1), 255, np.uint8)], axis=2)
 
 
-def bloom_layers(job_folder: Path, settings: bytes) -> bytes:
-    """Applies the bloom of `settings` (serialized) to a job's colour once every
-    tile is in, in place; answers the result's RGBA8 pixels."""
-    color = layer_files.load(job_folder, "color", layer_files.PARTIAL)
-    bloomed = rtcore.apply_bloom(np.ascontiguousarray(color), settings)
-    layer_files.replace(job_folder, "color", bloomed)
-    return rgba8(bloomed, settings).tobytes()
+def finish_layers(job_folder: Path, settings: render_pb2.RenderSettings) -> tuple[bytes, float]:
+    """The last pass of a job, once every tile is in: denoising, then bloom,
+    as `settings` ask, on its colour in place. A denoised job keeps its colour
+    before denoising as the "noisy" layer, bloomed as the colour is, so the
+    two differ by the denoiser alone. Answers the result's RGBA8 pixels and
+    the denoiser's seconds."""
+    serialized = settings.SerializeToString()
+    color = np.ascontiguousarray(layer_files.load(job_folder, "color", layer_files.PARTIAL))
+    seconds = 0.0
+    if settings.denoise != render_pb2.NO_DENOISER:
+        guides = [np.ascontiguousarray(layer_files.load(job_folder, name, layer_files.PARTIAL))
+                  for name in ("albedo", "normal")]
+        start = time.perf_counter()
+        denoised = rtcore.denoise(color, *guides)
+        seconds = time.perf_counter() - start
+        layer_files.replace(job_folder, layer_files.NOISY, rtcore.apply_bloom(color, serialized))
+        color = denoised
+    color = rtcore.apply_bloom(color, serialized)
+    layer_files.replace(job_folder, "color", color)
+    return rgba8(color, serialized).tobytes(), seconds
 
 
 def output_file(folder: Path, filename: str, settings: bytes) -> Path:
@@ -99,13 +115,14 @@ def output_file(folder: Path, filename: str, settings: bytes) -> Path:
     partial = folder / f"part.{filename}"
     if suffix == "exr":
         layers = {layer: np.ascontiguousarray(layer_files.load(folder, layer)) for layer in saved}
-        rtcore.write_exr(str(partial), layers.pop("color"), layers)
+        rtcore.write_exr(str(partial), layers.pop("color"), layers, layers.pop(layer_files.NOISY, None))
     else:
         layer = "color" if name == "image" else name
         if layer not in saved:
             raise FileNotFoundError(path)
         values = np.asarray(layer_files.load(folder, layer))
-        picture = rgba8(values, settings) if layer == "color" else aux_preview(name, values)
+        colour = layer in ("color", layer_files.NOISY)
+        picture = rgba8(values, settings) if colour else aux_preview(name, values)
         partial.write_bytes(png_bytes(picture))
     partial.replace(path)
     return path
@@ -121,5 +138,6 @@ def layer_bytes(folder: Path, name: str) -> bytes:
     values = np.ascontiguousarray(layer_files.load(folder, name), dtype="<f4")
     if values.ndim == 2:
         values = values[..., None]
-    channels = ["R", "G", "B"] if name == "color" else rtcore.aux_channel_names(name)
+    channels = (["R", "G", "B"] if name == "color" else [f"{name}.{c}" for c in "RGB"] if name == layer_files.NOISY
+                else rtcore.aux_channel_names(name))
     return layer_files.layer_message(name, values, channels).SerializeToString()

@@ -21,14 +21,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from distributed import as_completed
-from rt import job_pb2
+from rt import job_pb2, render_pb2
 
 from ..core.config import Settings
 from ..core.proto import normalize
 from . import comparisons, layer_files, references
 from .cluster import RenderCluster
 from .errors import Conflict, Invalid, NotFound, ServiceError
-from .job_image import bloom_layers, layer_bytes, output_file, read_rgba
+from .job_image import finish_layers, layer_bytes, output_file, read_rgba
 from .job_store import JobStore
 from .scene_store import SceneStore, StoredScene
 from .streams import TileStream
@@ -144,8 +144,7 @@ class JobManager:
         try:
             return await self.output_file(job.id, filename)
         except FileNotFoundError:
-            name = filename.rsplit(".", 1)[0]
-            raise NotFound(f"job '{job.id}' has no {name} output (ask for it in the request's outputs)") from None
+            raise _no_layer(job, filename.rsplit(".", 1)[0]) from None
 
     async def tile_messages(self, job: job_pb2.Job) -> AsyncIterator[bytes]:
         """The job's tile stream as a viewer receives it (serialized
@@ -172,16 +171,18 @@ class JobManager:
                            "its image exists once it is done")
         return self.folder(job.id)
 
-    async def compare(self, job: job_pb2.Job, reference: job_pb2.Job,
-                      rect: tuple[int, int, int, int] | None) -> job_pb2.ImageComparison:
-        """The job's image measured against the reference's (comparisons.compare)."""
-        return await asyncio.to_thread(comparisons.compare, self.done_folder(job), self.done_folder(reference),
-                                       job.id, reference.id, rect)
+    def side(self, job: job_pb2.Job, layer: str = "color") -> comparisons.Side:
+        """One image of a comparison: a done job's colour layer (Conflict while it is not done)."""
+        return comparisons.Side(job.id, self.done_folder(job), layer)
 
-    async def flip_layer(self, job: job_pb2.Job, reference: job_pb2.Job) -> bytes:
-        """The HDR-FLIP map of the job against the reference, as a serialized rt.Layer."""
-        return await asyncio.to_thread(comparisons.flip_layer, self.done_folder(job), self.done_folder(reference),
-                                       job.id, reference.id)
+    async def compare(self, mine: comparisons.Side, theirs: comparisons.Side,
+                      rect: tuple[int, int, int, int] | None) -> job_pb2.ImageComparison:
+        """One job's image measured against another's (comparisons.compare)."""
+        return await asyncio.to_thread(comparisons.compare, mine, theirs, rect)
+
+    async def flip_layer(self, mine: comparisons.Side, theirs: comparisons.Side) -> bytes:
+        """The HDR-FLIP map of one job's image against another's, as a serialized rt.Layer."""
+        return await asyncio.to_thread(comparisons.flip_layer, mine, theirs)
 
     async def layer(self, job: job_pb2.Job, name: str) -> bytes:
         """A done job's linear layer as a serialized rt.Layer: Conflict while
@@ -190,7 +191,7 @@ class JobManager:
         try:
             return await asyncio.to_thread(layer_bytes, folder, name)
         except FileNotFoundError:
-            raise NotFound(f"job '{job.id}' has no {name} layer (ask for it in the request's outputs)") from None
+            raise _no_layer(job, name) from None
 
     async def output_file(self, job_id: str, filename: str) -> Path:
         """A done job's image.png, image.exr or <layer>.png, made when first
@@ -246,9 +247,10 @@ class JobManager:
         passes = plan_passes(request.settings.width, request.settings.height, self._cluster.total_threads(),
                              request.interactive, rays_per_pixel(request.settings, running.scene.info.lights))
         specs = [spec for tiles in passes for spec in tiles]
-        bloom = request.settings.bloom_strength > 0
-        job.passes = len(passes) + bloom
-        job.tiles_total = len(specs) + bloom
+        denoise = request.settings.denoise != render_pb2.NO_DENOISER
+        last_pass = denoise or request.settings.bloom_strength > 0
+        job.passes = len(passes) + last_pass
+        job.tiles_total = len(specs) + last_pass
         total_pixels = sum(s.pixels for s in specs)
         folder = self.folder(job.id)
         run_id = f"{job.id}-{secrets.token_hex(3)}"  # a resumed job is a new run, with keys of its own
@@ -258,7 +260,8 @@ class JobManager:
         shutdown = False
         try:
             layers_dir = await asyncio.to_thread(layer_files.create, folder, request.settings.width,
-                                                 request.settings.height, grid_size(passes[-1]), aux_names(request))
+                                                 request.settings.height, grid_size(passes[-1]), aux_names(request),
+                                                 noisy=denoise)
             args = (running.scene.sha256, str(running.scene.scene_file), request.SerializeToString(), job.id,
                     run_id, str(layers_dir))
             keys: dict[TileSpec, str] = {}
@@ -289,8 +292,8 @@ class JobManager:
                 job.render_seconds += result.seconds
                 job.rays += result.rays
                 await running.stream.update(job)  # its new state (the first tile's) and progress
-            if bloom:
-                await self._bloom(running, folder, len(passes))
+            if last_pass:
+                await self._last_pass(running, folder, len(passes))
             layer_files.complete(folder)
             self._end(job, job_pb2.DONE)
             if request.reference:
@@ -318,15 +321,21 @@ class JobManager:
 
 
     @staticmethod
-    async def _bloom(running: RunningJob, folder: Path, pass_index: int) -> None:
-        """Bloom spreads light across tile borders, so it runs on the whole image
-        once every tile is in; viewers receive the result as one last tile."""
+    async def _last_pass(running: RunningJob, folder: Path, pass_index: int) -> None:
+        """The denoiser and bloom read and spread light across tile borders, so
+        they run on the whole image once every tile is in; viewers receive the
+        result as one last tile."""
         job = running.record
         settings = job.request.settings
-        rgba = await asyncio.to_thread(bloom_layers, folder, settings.SerializeToString())
+        rgba, job.denoise_seconds = await asyncio.to_thread(finish_layers, folder, settings)
         await running.stream.publish(whole_image_tile(job.id, pass_index, settings.width, settings.height, rgba))
         job.tiles_done += 1
         await running.stream.update(job)
+
+
+def _no_layer(job: job_pb2.Job, name: str) -> NotFound:
+    how = "settings.denoise" if name == layer_files.NOISY else "the request's outputs"
+    return NotFound(f"job '{job.id}' has no {name} layer (ask for it in {how})")
 
 
 def final_image_stream(job: job_pb2.Job, rgba) -> list[bytes]:

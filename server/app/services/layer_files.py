@@ -48,17 +48,21 @@ LAYOUT = "layout.json"
 # Channels of each auxiliary layer, as rtcore.render_tile returns them.
 AUX_CHANNELS = {name.lower(): rtcore.aux_channel_count(name)
                 for name in job_pb2.AuxOutput.keys() if job_pb2.AuxOutput.Value(name) != 0}
+# The colour before denoising, which the last pass writes (job_image.finish_layers).
+NOISY = "noisy"
 
 
-def create(job_folder: Path, width: int, height: int, tile: int, aux: list[str]) -> Path:
+def create(job_folder: Path, width: int, height: int, tile: int, aux: list[str], noisy: bool = False) -> Path:
     """Empty (sparse) layer files for a job about to render, for tiles on a
-    grid of `tile` pixels; their folder."""
+    grid of `tile` pixels, and for the colour before denoising when `noisy`;
+    their folder."""
     folder = job_folder / PARTIAL
     for stale in (folder, job_folder / COMPLETE):  # of a run the server restarted
         shutil.rmtree(stale, ignore_errors=True)
     folder.mkdir(parents=True)
     (folder / LAYOUT).write_text(json.dumps({"width": width, "height": height}))
-    for name, channels in {"color": 3, **{a: AUX_CHANNELS[a] for a in aux}}.items():
+    layers = {"color": 3, **{a: AUX_CHANNELS[a] for a in aux}, **({NOISY: 3} if noisy else {})}
+    for name, channels in layers.items():
         with open(folder / f"{name}.npy", "wb") as f:
             shape = (-(-height // tile), -(-width // tile), tile, tile, channels)
             f.write(_aligned_header(shape))
@@ -168,7 +172,7 @@ def load(job_folder: Path, name: str, folder: str = COMPLETE) -> np.ndarray:
 
 
 def replace(job_folder: Path, name: str, image: np.ndarray, folder: str = PARTIAL) -> None:
-    """Writes a whole layer (bloom's result) over the one in the files."""
+    """Writes a whole layer (the last pass's results) over the one in the files."""
     blocks = np.load(job_folder / folder / f"{name}.npy", mmap_mode="r+")
     rows, columns, tile, _, channels = blocks.shape
     padded = np.zeros((rows * tile, columns * tile, channels), np.float32)

@@ -106,7 +106,7 @@ async def accuracy(scenes: SceneStore, manager, job: job_pb2.Job) -> job_pb2.Acc
             if other.id != reference.id and other.state == job_pb2.DONE and same_view(other, job)][:PLOT_POINTS]
     plot = job_pb2.AccuracyPlot(reference_id=reference.id)
     for other in reversed(view):
-        error = await manager.compare(other, reference, None)
+        error = await manager.compare(manager.side(other), manager.side(reference), None)
         plot.points.add(job_id=other.id, seconds=max(other.finished_at - other.started_at, 0.0), error=error,
                         settings=other.request.settings)
     return plot

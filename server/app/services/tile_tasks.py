@@ -16,7 +16,7 @@ from collections import OrderedDict
 import numpy as np
 import rtcore
 from distributed import get_worker
-from rt import job_pb2
+from rt import job_pb2, render_pb2
 
 from . import layer_files
 from .layer_files import layer_array, layer_message
@@ -25,7 +25,12 @@ from .tile_plan import TileSpec
 
 
 def aux_names(request: job_pb2.JobRequest) -> list[str]:
-    return [job_pb2.AuxOutput.Name(o).lower() for o in request.outputs]
+    """The auxiliary layers a job's tiles render: those asked for, and the
+    denoiser's guides (albedo and normal) when it is denoised."""
+    names = [job_pb2.AuxOutput.Name(o).lower() for o in request.outputs]
+    if request.settings.denoise != render_pb2.NO_DENOISER:
+        names += [guide for guide in ("normal", "albedo") if guide not in names]
+    return names
 
 
 # Workers announce each tile they start on this topic; the server forwards it

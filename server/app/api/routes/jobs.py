@@ -12,13 +12,13 @@ from ...core.security import is_authorized
 from ...services.errors import NotFound
 from ...services.job_image import heat_ramp_png
 from ...services.jobs import JobManager
-from ...services.layer_files import AUX_CHANNELS
+from ...services.layer_files import AUX_CHANNELS, NOISY
 from ..deps import job_or_404, jobs, proto_json
 
 router = APIRouter(prefix="/api/jobs", tags=["jobs"])
 
-IMAGE_NAMES = ("image",) + tuple(AUX_CHANNELS)
-LAYER_NAMES = ("color",) + tuple(AUX_CHANNELS)
+IMAGE_NAMES = ("image", NOISY) + tuple(AUX_CHANNELS)
+LAYER_NAMES = ("color", NOISY) + tuple(AUX_CHANNELS)
 HEAT_RAMP_PNG = heat_ramp_png()
 
 
