@@ -11,7 +11,12 @@ RUN apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-ins
     && rm -rf /var/lib/apt/lists/*
 WORKDIR /src
 COPY requirements.txt .
-RUN python3 -m venv /opt/venv && /opt/venv/bin/pip install --no-cache-dir -r requirements.txt
+# pyoidn brings Open Image Denoise, which the renderer loads from the venv; its
+# CPU device is all a CPU image needs (the GPU devices and SYCL are 120 MB).
+RUN python3 -m venv /opt/venv && /opt/venv/bin/pip install --no-cache-dir -r requirements.txt \
+    && cd /opt/venv/lib/python3*/site-packages/pyoidn/oidn \
+    && rm -rf bin lib/libOpenImageDenoise_device_cuda* lib/libOpenImageDenoise_device_hip* \
+      lib/libOpenImageDenoise_device_sycl* lib/libsycl* lib/libur_* lib/libumf*
 COPY proto proto
 COPY renderer renderer
 # Portable code: the image may run on another CPU than the one that built it.

@@ -67,7 +67,7 @@ void print_help() {
         "  --threads N              worker threads (default: all cores)\n"
         "  --tile-size N            tile edge in pixels (default 32); never changes the image\n"
         "  --aux LIST               auxiliary outputs as extra EXR channels, comma-separated:\n"
-        "                           depth,normal,albedo,bvh_cost (rt.AuxOutput)\n"
+        "                           depth,normal,albedo,bvh_cost,alpha (rt.AuxOutput)\n"
         "  --noisy FILE             with --denoise, also the image before denoising\n"
         "                           (.png or .exr, after bloom as the output is)\n"
         "  --debug-pixel X,Y        print the rays traced for one pixel (rt.DebugPath JSON)\n"
@@ -119,7 +119,7 @@ std::vector<rt::AuxOutput> parse_aux_list(const std::string& text) {
             throw UsageError(std::string("--aux: ") + e.what());
         }
     }
-    if (outputs.empty()) throw UsageError("--aux needs at least one of depth,normal,albedo,bvh_cost");
+    if (outputs.empty()) throw UsageError("--aux needs at least one of depth,normal,albedo,bvh_cost,alpha");
     return outputs;
 }
 

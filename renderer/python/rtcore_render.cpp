@@ -20,7 +20,7 @@ namespace {
 // A list of names ("depth") or rt.AuxOutput values (1); a lone string is
 // refused rather than read letter by letter.
 std::vector<rt::AuxOutput> read_aux(nb::handle aux) {
-    const char* expected = "aux: expected a list of names (depth, normal, albedo, bvh_cost) or rt.AuxOutput values";
+    const char* expected = "aux: expected a list of names (depth, normal, albedo, bvh_cost, alpha) or rt.AuxOutput values";
     if (nb::isinstance<nb::str>(aux) || nb::isinstance<nb::bytes>(aux)) throw std::invalid_argument(expected);
     std::vector<rt::AuxOutput> outputs;
     for (nb::handle item : aux) {

@@ -22,7 +22,7 @@ namespace {
 
 using namespace rt::testing;
 
-const std::vector<AuxOutput> kAll = {DEPTH, NORMAL, ALBEDO, BVH_COST};
+const std::vector<AuxOutput> kAll = {DEPTH, NORMAL, ALBEDO, BVH_COST, ALPHA};
 
 struct TileResult {
     std::vector<float> rgb;
@@ -49,11 +49,12 @@ TEST(Aov, NamesFollowTheSchema) {
         parse_aux_output("speed");
         FAIL() << "no error";
     } catch (const std::invalid_argument& e) {
-        EXPECT_TRUE(contains(e.what(), "'speed'") && contains(e.what(), "depth, normal, albedo, bvh_cost")) << e.what();
+        EXPECT_TRUE(contains(e.what(), "'speed'") && contains(e.what(), "depth, normal, albedo, bvh_cost, alpha")) << e.what();
     }
     EXPECT_THROW(parse_aux_output("aux_output_unspecified"), std::invalid_argument);
     EXPECT_THROW(aux_output_from_value(0), std::invalid_argument);
-    EXPECT_THROW(aux_output_from_value(5), std::invalid_argument);
+    EXPECT_EQ(aux_channel_names(ALPHA), std::vector<std::string>{"A"});
+    EXPECT_THROW(aux_output_from_value(6), std::invalid_argument);
 }
 
 // A camera at the origin looking down -z at the plane z = -5, which covers
@@ -87,8 +88,8 @@ TEST(Aov, DepthOfAPlaneIsTheDistanceAlongEachRay) {
     EXPECT_GT(misses, 0);
 }
 
-// With several samples per pixel, depth, normal and albedo are their means
-// over the samples, as colour is, and the cost is their sum: GRID's four
+// With several samples per pixel, depth, normal, albedo and alpha are their
+// means over the samples, as colour is, and the cost is their sum: GRID's four
 // sub-pixels are four known rays, and the plane's edge (x = kEdge, film
 // x = 20.5) leaves half of those of pixel column 20 on the plane.
 TEST(Aov, SeveralSamplesAverageTheLayersAndSumTheCost) {
@@ -104,7 +105,7 @@ TEST(Aov, SeveralSamplesAverageTheLayersAndSumTheCost) {
     settings.set_pixel_filter(GRID);
     settings.set_samples_per_pixel(4);
     const Renderer renderer(accel, settings, camera);
-    const TileResult result = render_tile(renderer, {0, 0, w, h}, {DEPTH, NORMAL, ALBEDO, BVH_COST});
+    const TileResult result = render_tile(renderer, {0, 0, w, h}, {DEPTH, NORMAL, ALBEDO, BVH_COST, ALPHA});
     EXPECT_EQ(result.counts.samples, uint64_t(4) * w * h);
     const ViewCamera pinhole(camera, w, h);
     int edge_pixels = 0;
@@ -122,6 +123,7 @@ TEST(Aov, SeveralSamplesAverageTheLayersAndSumTheCost) {
             EXPECT_NEAR(result.aux.depth[p], depth / 4.0f, 1e-5f * (1.0f + depth)) << x << ", " << y;
             EXPECT_NEAR(result.aux.normal[3 * p + 2], float(hits) / 4.0f, 1e-6f) << x << ", " << y;
             EXPECT_NEAR(result.aux.albedo[3 * p], 0.5f * float(hits) / 4.0f, 1e-6f) << x << ", " << y;
+            EXPECT_EQ(result.aux.alpha[p], float(hits) / 4.0f) << x << ", " << y;
             edge_pixels += hits == 2;
         }
     }

@@ -138,10 +138,10 @@ def exr_channels(path):
 def test_aux_outputs_are_extra_exr_channels(rtrender, scenes_dir, tmp_path):
     out = tmp_path / "aux.exr"
     result = run(rtrender, scenes_dir / "cornell.obj", "-o", out, "--width", 32, "--height", 24, "--quiet",
-                 "--aux", "depth,normal,albedo,bvh_cost")
+                 "--aux", "depth,normal,albedo,bvh_cost,alpha")
     assert result.returncode == 0, result.stderr
     assert sorted(exr_channels(out)) == sorted(
-        ["R", "G", "B", "depth.Z", "normal.X", "normal.Y", "normal.Z", "albedo.R", "albedo.G", "albedo.B",
+        ["R", "G", "B", "A", "depth.Z", "normal.X", "normal.Y", "normal.Z", "albedo.R", "albedo.G", "albedo.B",
          "bvh_cost.nodes", "bvh_cost.triangles"])
     plain = tmp_path / "plain.exr"
     assert run(rtrender, scenes_dir / "cornell.obj", "-o", plain, "--width", 32, "--height", 24,
@@ -248,6 +248,38 @@ def test_bloom_moves_light_in_the_exr_and_changes_the_png(rtrender, scenes_dir, 
     assert result.returncode == 0, result.stderr
     np.testing.assert_array_equal(np.asarray(Image.open(shown)),
                                   rtcore.encode_srgb8(bloomed, '{"exposure": -1, "toneMap": "REINHARD"}')[..., :3])
+
+
+def test_denoise_writes_the_denoised_image_and_with_noisy_the_one_before(rtrender, scenes_dir, tmp_path):
+    scene = scenes_dir / "cornell_sphere_light.obj"
+    common = ("--width", 64, "--height", 48, "--samples-per-pixel", 2, "--light-samples", 1, "--quiet")
+    plain = run(rtrender, scene, "-o", tmp_path / "plain.exr", *common)
+    assert plain.returncode == 0, plain.stderr
+    assert "rtrender: denoise" not in plain.stdout
+    result = run(rtrender, scene, "-o", tmp_path / "denoised.exr", "--noisy", tmp_path / "noisy.exr",
+                 "--denoise", "oidn", "--aux", "depth", *common)
+    assert result.returncode == 0, result.stderr
+    assert re.search(r"^rtrender: denoise [\d.]+ ms \(.*libOpenImageDenoise\.so\.2\)$", result.stdout, re.M), result.stdout
+    # The guides are rendered, not written: only the layers asked for are.
+    assert exr_channels(tmp_path / "denoised.exr") == ["B", "G", "R", "depth.Z"]
+    noisy = read_exr_colour(tmp_path / "noisy.exr")
+    assert noisy.tobytes() == read_exr_colour(tmp_path / "plain.exr").tobytes(), "the render is the same without"
+    denoised = read_exr_colour(tmp_path / "denoised.exr")
+    assert not np.array_equal(denoised, noisy)
+    scene_ = rtcore.Scene.load(str(scene))
+    settings = '{"width": 64, "height": 48, "samplesPerPixel": 2, "lightSamples": 1, "denoise": "OIDN"}'
+    assert denoised.tobytes() == scene_.render(scene_.default_camera, settings).tobytes(), "rtcore denoises alike"
+
+
+def test_noisy_needs_denoise_and_an_image_file(rtrender, scenes_dir, tmp_path):
+    scene = scenes_dir / "cornell.obj"
+    without = run(rtrender, scene, "-o", tmp_path / "a.png", "--noisy", tmp_path / "b.png", "--width", 8, "--height", 8)
+    assert without.returncode == 2 and "--noisy is the image before denoising" in without.stderr
+    assert not (tmp_path / "a.png").exists()
+    wrong = run(rtrender, scene, "-o", tmp_path / "a.png", "--noisy", tmp_path / "b.tif", "--denoise", "oidn")
+    assert wrong.returncode == 2 and "--noisy: the file must be .png or .exr" in wrong.stderr
+    unknown = run(rtrender, scene, "-o", tmp_path / "a.png", "--denoise", "neural")
+    assert unknown.returncode == 2 and "no_denoiser, oidn" in unknown.stderr
 
 
 def test_settings_under_which_glass_would_never_finish_exit_2(rtrender, tmp_path):

@@ -267,9 +267,10 @@ def test_aux_layers_come_with_the_colour(cornell):
     assert by_value["rays"] == result["rays"]
 
 
-def test_normals_face_the_camera(cornell):
+def test_normals_face_the_camera_but_in_the_mirror(cornell):
     camera = render_pb2.Camera.FromString(cornell.default_camera)
-    result = cornell.render_tile(cornell.default_camera, settings(), 0, 0, 48, 36, aux=["normal", "depth"])
+    # At max_depth 0 no ray leaves the mirror: every normal is a primary hit's.
+    result = cornell.render_tile(cornell.default_camera, settings(max_depth=0), 0, 0, 48, 36, aux=["normal", "depth"])
     # A ray through each pixel centre, as the pinhole camera makes it.
     position, target = np.array(camera.position), np.array(camera.target)
     forward = (target - position) / np.linalg.norm(target - position)
@@ -282,6 +283,10 @@ def test_normals_face_the_camera(cornell):
                   + (1 - 2 * ys / 36)[..., None] * up * tan_y)
     hit = result["depth"] > 0
     assert (np.einsum("ijk,ijk->ij", result["normal"], directions)[hit] < 0).all()
+    # With reflections, the mirror's pixels hold the normal of what it shows, facing the reflected rays.
+    deep = cornell.render_tile(cornell.default_camera, settings(), 0, 0, 48, 36, aux=["normal"])["normal"]
+    moved = hit & (np.abs(deep - result["normal"]).max(axis=2) > 1e-3)
+    assert 20 < moved.sum() < 0.5 * hit.sum()
 
 
 def test_bvh_cost_grows_with_max_depth_in_the_mirror(cornell):

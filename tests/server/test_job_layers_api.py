@@ -23,13 +23,13 @@ def layer_of(client, job_id: str, name: str) -> tuple[job_pb2.Layer, np.ndarray]
 
 def test_every_layer_is_the_saved_floats_with_the_exr_channel_names(client, cornell_id):
     body = {"scene_id": cornell_id, "settings": {"width": 40, "height": 30, "exposure": 1.5},
-            "outputs": ["DEPTH", "NORMAL", "ALBEDO", "BVH_COST"]}
+            "outputs": ["DEPTH", "NORMAL", "ALBEDO", "BVH_COST", "ALPHA"]}
     job = client.post("/api/jobs", json=body).json()
     assert wait_for(client, job["id"])["state"] == "DONE"
     folder = client.app.state.settings.jobs_dir / job["id"]
     expected_channels = {"color": ["R", "G", "B"], "depth": ["depth.Z"], "normal": ["normal.X", "normal.Y", "normal.Z"],
                          "albedo": ["albedo.R", "albedo.G", "albedo.B"],
-                         "bvh_cost": ["bvh_cost.nodes", "bvh_cost.triangles"]}
+                         "bvh_cost": ["bvh_cost.nodes", "bvh_cost.triangles"], "alpha": ["A"]}
     for name, channels in expected_channels.items():
         layer, values = layer_of(client, job["id"], name)
         assert list(layer.channels) == channels

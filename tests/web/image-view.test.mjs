@@ -55,7 +55,7 @@ describe("image view", { timeout: 150_000 }, () => {
     const cornell = scenes.find((s) => s.name === "cornell.obj");
     assert.ok(cornell, `the sample Cornell box among ${scenes.map((s) => s.name)}`);
     const body = {
-      scene_id: cornell.id, outputs: ["DEPTH", "NORMAL", "BVH_COST"],
+      scene_id: cornell.id, outputs: ["DEPTH", "NORMAL", "BVH_COST", "ALPHA"],
       settings: { width: WIDTH, height: HEIGHT, samples_per_pixel: 4, exposure: 0.7, tone_map: "REINHARD" },
     };
     job = await (await api("/api/jobs", { method: "POST", headers: { "Content-Type": "application/json" },
@@ -76,7 +76,7 @@ describe("image view", { timeout: 150_000 }, () => {
   test("a done job fills the main area and shows image.png at the job's exposure and tone map", async () => {
     await page.goto(`/jobs/${job.id}`);
     await page.click("#show-image");
-    await page.waitForFunction(() => window.rt.image.layers?.size === 4, null, { timeout: 30_000 });
+    await page.waitForFunction(() => window.rt.image.layers?.size === 5, null, { timeout: 30_000 });
     assert.equal(await page.locator("#viewport").isHidden(), true, "the 3D view gave way");
     const area = await page.locator("#image-view-canvas").boundingBox();
     assert.ok(area.width > 500 && area.height > 400, `the render has the main area (${area.width}x${area.height})`);
@@ -156,9 +156,16 @@ describe("image view", { timeout: 150_000 }, () => {
     for (let i = 0; i < ramp.length; i += 4) colours.add(ramp.slice(i, i + 3).join());
     assert.ok(colours.size > 20, `false colour spreads depth over the ramp (${colours.size} colours)`);
     await screenshot(page, "image-view-depth-false-colour");
+    // Alpha, the colour's coverage, is among its channels: the EXR's A, the background 0.
+    await page.selectOption("#image-layer", "color");
+    await page.selectOption("#image-channel", "alpha");
+    const alpha = await page.evaluate(() => Array.from(window.rt.image.shown.values));
+    assert.deepEqual(alpha, Array.from(exr.channels.A));
+    assert.ok(alpha.includes(0) && alpha.includes(1), "the box and the background");
     await page.click("#image-reset");
     assert.equal(await page.inputValue("#image-exposure"), "0.7");
     await page.selectOption("#image-layer", "color");
+    await page.selectOption("#image-channel", "rgb");
     await page.uncheck("#image-false-color");
     assert.equal(await jobCount(), jobs, "no job was submitted");
   });

@@ -64,6 +64,8 @@ export class ImageControls extends EventTarget {
   _fillChannels() {
     const layer = this.layers.get(this.layerSelect.value);
     const choices = layer ? channelChoices(layer) : [];
+    // The colour's alpha is a layer of its own (rt.AuxOutput ALPHA), offered among the colour's channels.
+    if (this.layerSelect.value === "color" && this.layers.has("alpha")) choices.push({ value: "alpha", label: "Alpha" });
     const keep = choices.some((c) => c.value === this.channelSelect.value) ? this.channelSelect.value : choices[0]?.value;
     this.channelSelect.replaceChildren(...choices.map((c) => new Option(c.label, c.value)));
     if (keep !== undefined) this.channelSelect.value = keep;

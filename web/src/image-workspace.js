@@ -105,7 +105,8 @@ export class ImageWorkspace {
   }
 
   _redisplay() {
-    const view = this.controls.view;
+    let view = this.controls.view;
+    if (view.layer === "color" && view.channel === "alpha") view = { ...view, layer: "alpha", channel: "0" };
     let layer = this.layers?.get(view.layer);
     if (!layer) return;
     const { compare } = this;

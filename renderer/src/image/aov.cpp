@@ -34,7 +34,7 @@ AuxOutput parse_aux_output(std::string_view name) {
 AuxOutput aux_output_from_value(int value) {
     if (!AuxOutput_IsValid(value) || value == AUX_OUTPUT_UNSPECIFIED)
         throw std::invalid_argument("unknown auxiliary output " + std::to_string(value) + " (expected rt.AuxOutput " +
-                                    std::to_string(int(DEPTH)) + " to " + std::to_string(int(BVH_COST)) + ")");
+                                    std::to_string(int(DEPTH)) + " to " + std::to_string(int(ALPHA)) + ")");
     return AuxOutput(value);
 }
 
@@ -46,6 +46,7 @@ std::vector<std::string> aux_channel_names(AuxOutput output) {
         case NORMAL: return {"normal.X", "normal.Y", "normal.Z"};
         case ALBEDO: return {"albedo.R", "albedo.G", "albedo.B"};
         case BVH_COST: return {"bvh_cost.nodes", "bvh_cost.triangles"};
+        case ALPHA: return {"A"};  // the colour's alpha, as EXR viewers read it
         default: break;
     }
     throw std::invalid_argument("aux_channel_names(): " + std::to_string(int(output)) + " is no auxiliary output");
@@ -53,13 +54,15 @@ std::vector<std::string> aux_channel_names(AuxOutput output) {
 
 AuxLayers AuxLayers::from(size_t index) const {
     return {depth ? depth + index : nullptr, normal ? normal + 3 * index : nullptr,
-            albedo ? albedo + 3 * index : nullptr, bvh_cost ? bvh_cost + 2 * index : nullptr};
+            albedo ? albedo + 3 * index : nullptr, bvh_cost ? bvh_cost + 2 * index : nullptr,
+            alpha ? alpha + index : nullptr};
 }
 
 void AuxLayers::store(size_t index, const AuxSample& sample) const {
     if (depth) depth[index] = sample.depth;
     if (normal) std::copy_n(&sample.normal.x, 3, normal + 3 * index);
     if (albedo) std::copy_n(&sample.albedo.x, 3, albedo + 3 * index);
+    if (alpha) alpha[index] = sample.alpha;
     if (bvh_cost) {
         bvh_cost[2 * index] = sample.cost.nodes_visited;
         bvh_cost[2 * index + 1] = sample.cost.triangles_tested;
@@ -74,6 +77,7 @@ void AuxPixel::add(const AuxSample& sample) {
     sum_.depth += sample.depth;
     sum_.normal += sample.normal;
     sum_.albedo += sample.albedo;
+    sum_.alpha += sample.alpha;
     sum_.cost.nodes_visited += sample.cost.nodes_visited;
     sum_.cost.triangles_tested += sample.cost.triangles_tested;
 }
@@ -85,6 +89,7 @@ AuxSample AuxPixel::mean() const {
         mean.depth *= scale;
         mean.normal *= scale;
         mean.albedo *= scale;
+        mean.alpha *= scale;
     }
     return mean;
 }
@@ -103,6 +108,7 @@ bool AuxImage::has(AuxOutput output) const {
         case NORMAL: return !normal.empty();
         case ALBEDO: return !albedo.empty();
         case BVH_COST: return !bvh_cost.empty();
+        case ALPHA: return !alpha.empty();
         default: return false;
     }
 }
@@ -116,7 +122,7 @@ std::vector<AuxOutput> AuxImage::outputs() const {
 
 AuxLayers AuxImage::layers() {
     const auto data = [](auto& values) { return values.empty() ? nullptr : values.data(); };
-    return {data(depth), data(normal), data(albedo), data(bvh_cost)};
+    return {data(depth), data(normal), data(albedo), data(bvh_cost), data(alpha)};
 }
 
 float AuxImage::channel(AuxOutput output, size_t pixel, uint32_t c) const {
@@ -124,6 +130,7 @@ float AuxImage::channel(AuxOutput output, size_t pixel, uint32_t c) const {
         case DEPTH: return depth[pixel];
         case NORMAL: return normal[3 * pixel + c];
         case ALBEDO: return albedo[3 * pixel + c];
+        case ALPHA: return alpha[pixel];
         default: return float(bvh_cost[2 * pixel + c]);
     }
 }

@@ -1,7 +1,8 @@
 // Auxiliary outputs (AOVs), what the job service calls rt.AuxOutput: per pixel,
-// besides colour, the depth, normal and albedo at the primary hit (averaged
-// over the pixel's samples) and the BVH traversal cost of every ray the pixel
-// traced. A render computes them only for
+// besides colour, the depth at the primary hit, the normal and albedo of the
+// surface the pixel shows (past mirrors and glass: the denoiser's guides) and
+// its coverage (alpha), averaged over the pixel's samples, and the BVH
+// traversal cost of every ray the pixel traced. A render computes them only for
 // the layers it is asked for, so the colour path never pays for them.
 #pragma once
 
@@ -18,7 +19,7 @@
 namespace rt {
 
 // Every layer, in the order of the proto enum: the order they are stored and written in.
-inline constexpr AuxOutput kAuxOutputs[] = {DEPTH, NORMAL, ALBEDO, BVH_COST};
+inline constexpr AuxOutput kAuxOutputs[] = {DEPTH, NORMAL, ALBEDO, BVH_COST, ALPHA};
 
 // The proto name in lower case ("depth", "bvh_cost"): what the CLI and rtcore take.
 std::string aux_name(AuxOutput output);
@@ -37,9 +38,10 @@ std::vector<std::string> aux_channel_names(AuxOutput output);
 // leaves depth, normal and albedo at zero.
 struct AuxSample {
     float depth = 0.0f;   // distance along the primary ray to its first hit
-    vec3 normal{0.0f};    // shading normal there, facing the camera, as shading used it
-    vec3 albedo{0.0f};    // diffuse colour there, its texture applied
+    vec3 normal{0.0f};    // shading normal of the surface shown, facing its ray, as shading used it
+    vec3 albedo{0.0f};    // diffuse colour there, its texture applied, tinted by mirrors and glass before it
     TraversalStats cost;  // summed over the primary, reflection and shadow rays
+    float alpha = 0.0f;   // 1 where the camera ray met a surface or a light, 0 where it saw the background
 };
 
 // A pixel's samples together: depth, normal and albedo averaged, as colour is
@@ -62,8 +64,9 @@ struct AuxLayers {
     float* normal = nullptr;       // 3
     float* albedo = nullptr;       // 3
     uint32_t* bvh_cost = nullptr;  // 2: nodes visited, triangles tested
+    float* alpha = nullptr;        // 1
 
-    bool empty() const { return !depth && !normal && !albedo && !bvh_cost; }
+    bool empty() const { return !depth && !normal && !albedo && !bvh_cost && !alpha; }
 
     // The same layers starting at pixel `index`.
     AuxLayers from(size_t index) const;
@@ -78,6 +81,7 @@ struct AuxImage {
     uint32_t height = 0;
     std::vector<float> depth, normal, albedo;
     std::vector<uint32_t> bvh_cost;
+    std::vector<float> alpha;
 
     AuxImage() = default;
     AuxImage(uint32_t width, uint32_t height, const std::vector<AuxOutput>& outputs);
@@ -90,14 +94,15 @@ struct AuxImage {
     float channel(AuxOutput output, size_t pixel, uint32_t channel) const;
 
     // Calls f with the values of layer `output`, aux_channel_count(output) per
-    // pixel: a std::vector<float> for depth, normal and albedo, of uint32_t
-    // for the BVH cost.
+    // pixel: a std::vector<float> for depth, normal, albedo and alpha, of
+    // uint32_t for the BVH cost.
     template <class F>
     void with_layer(AuxOutput output, F&& f) {
         switch (output) {
             case DEPTH: f(depth); break;
             case NORMAL: f(normal); break;
             case ALBEDO: f(albedo); break;
+            case ALPHA: f(alpha); break;
             default: f(bvh_cost); break;
         }
     }

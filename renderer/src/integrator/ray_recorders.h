@@ -103,7 +103,10 @@ struct AuxRecorder {
         }
         const int id = segments++;
         // Camera rays have unit directions: t is the distance.
-        if (kind == PRIMARY && hit.found()) aux.depth = hit.t;
+        if (kind == PRIMARY && hit.found()) {
+            aux.depth = hit.t;
+            aux.alpha = 1.0f;
+        }
         // Glass passes the guide on through its refraction, or its reflection
         // when the light cannot get through (total internal reflection).
         if (parent == guide && passes != PRIMARY && (kind == passes || passes == REFRACTION)) {
@@ -129,11 +132,12 @@ struct AuxRecorder {
         if (segment != guide) return;
         aux.normal = s.ns;
         // The shares of the light the surface sends back as the integrator
-        // splits them: Phong (diffuse), mirror, and what passes (glass, and
-        // the uncovered part of a BLEND surface).
-        const vec3 opaque = sm.coverage * (vec3(1.0f) - m.transmission);
+        // splits them: Phong (diffuse), mirror, and what the glass lets
+        // through. A BLEND surface's coverage scales them all alike: it keeps
+        // its own colour, as the first surface three.js draws does.
+        const vec3 opaque = vec3(1.0f) - m.transmission;
         const vec3 mirror = opaque * sm.reflectance;
-        const vec3 through = sm.coverage * m.transmission + vec3(1.0f - sm.coverage);
+        const vec3 through = m.transmission;
         const float delta = max_component(mirror + through);
         if (delta <= max_component(opaque * sm.diffuse)) {
             aux.albedo = tint * sm.diffuse;
@@ -145,7 +149,10 @@ struct AuxRecorder {
     }
     // A light has no albedo; its normal faces the camera, which is outside it.
     void light(int segment, const Ray& ray, float t, const Light& light, vec3) {
-        if (segment == 0) aux.depth = t;
+        if (segment == 0) {
+            aux.depth = t;
+            aux.alpha = 1.0f;
+        }
         if (segment == guide) aux.normal = glm::normalize(ray.at(t) - light.position);
     }
     void contribution(int, vec3) {}

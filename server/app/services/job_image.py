@@ -56,7 +56,7 @@ def heat_ramp_png(width: int = 256) -> bytes:
 
 def aux_preview(name: str, layer: np.ndarray) -> np.ndarray:
     """An auxiliary layer as an RGBA8 picture: depth near-bright, normals as
-    colour, albedo in sRGB, BVH cost (nodes visited) as a heat map."""
+    colour, albedo in sRGB, alpha as grey, BVH cost (nodes visited) as a heat map."""
     h, w = layer.shape[:2]
     if name == "depth":
         d = layer.reshape(h, w)
@@ -70,6 +70,9 @@ def aux_preview(name: str, layer: np.ndarray) -> np.ndarray:
         return rgba8(((layer * 0.5 + 0.5) * (np.linalg.norm(layer, axis=2, keepdims=True) > 0)) ** 2.2)
     if name == "albedo":
         return rgba8(layer)
+    if name == "alpha":  # coverage as grey levels, 0 black to 1 white
+        grey = (np.clip(layer.reshape(h, w), 0, 1) * 255 + 0.5).astype(np.uint8)
+        return np.dstack([grey, grey, grey, np.full((h, w), 255, np.uint8)])
     nodes = layer.reshape(h, w, -1)[..., 0].astype(np.float32)
     top = float(np.percentile(nodes, 99.5)) if nodes.size else 1.0
     rgb = _heat(nodes / max(top, 1.0))
