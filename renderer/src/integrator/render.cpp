@@ -225,14 +225,7 @@ void Renderer::render_packet(const PacketPixels& block, float* rgb, const AuxLay
             for (uint32_t left = sampling; left != 0; left &= left - 1) {
                 const uint32_t k = uint32_t(std::countr_zero(left)), r = slot[s * kPacket + k];
                 const PixelSampler sampler(block.key[k], count == 1 ? 0 : first + s);
-                if (with_aux) {
-                    AuxSample sample;
-                    estimates[k].add(
-                        integrator_.radiance(rays.at[r], sampler, stats.rays, sample, cone_, false, &hits.at[r]));
-                    aux_pixels[k].add(sample);
-                } else {
-                    estimates[k].add(integrator_.radiance(rays.at[r], hits.at[r], sampler, stats.rays, cone_));
-                }
+                estimates[k].add(shade(rays.at[r], hits.at[r], sampler, stats, with_aux ? &aux_pixels[k] : nullptr));
                 if (stopping_.done(estimates[k])) sampling &= ~(1u << k);
             }
     }
@@ -245,6 +238,15 @@ void Renderer::render_packet(const PacketPixels& block, float* rgb, const AuxLay
         out[1] = c.g;
         out[2] = c.b;
     }
+}
+
+vec3 Renderer::shade(const Ray& ray, const Hit& hit, const PixelSampler& sampler, RenderStats& stats,
+                     AuxPixel* aux) const {
+    if (!aux) return integrator_.radiance(ray, hit, sampler, stats.rays, cone_);
+    AuxSample sample;
+    const vec3 c = integrator_.radiance(ray, sampler, stats.rays, sample, cone_, false, &hit);
+    aux->add(sample);
+    return c;
 }
 
 vec3 Renderer::render_pixel(uint32_t x, uint32_t y, size_t index, const AuxLayers& aux, RenderStats& stats) const {

@@ -125,6 +125,9 @@ class Renderer {
     // traversal.
     void render_packet(const PacketPixels& block, float* rgb, const AuxLayers& aux, RenderStats& stats,
                        const std::stop_token& stop) const;
+    // The radiance of a camera sample whose hit a packet found; its auxiliary
+    // outputs added to `aux` when given.
+    vec3 shade(const Ray& ray, const Hit& hit, const PixelSampler& sampler, RenderStats& stats, AuxPixel* aux) const;
     // Pixels per side of the blocks a tile is walked in.
     static constexpr uint32_t kCacheBlock = 16;
     // The mean of pixel (x, y)'s samples, `trace(ray, sampler)` giving each
