@@ -6,4 +6,6 @@ from app.core.config import Settings
 
 
 def service_settings(data_dir: Path, **overrides) -> Settings:
-    return Settings(**{"data_dir": data_dir, "embedded_threads": 2, "web_dir": data_dir / "no-viewer", **overrides})
+    # "testserver": the Host header of Starlette's TestClient.
+    return Settings(**{"data_dir": data_dir, "embedded_threads": 2, "web_dir": data_dir / "no-viewer",
+                       "allowed_hosts": ("testserver",), **overrides})

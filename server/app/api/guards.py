@@ -1,11 +1,12 @@
-"""Checks every HTTP request passes before any route sees it: the API token, and
-the size of a scene upload.
+"""Checks every request passes before any route sees it: its Host and Origin
+(core/local_access.py), the API token, and the size of a scene upload; and the
+security headers every response carries.
 
 A plain ASGI middleware rather than FastAPI's @app.middleware("http"): that
 wraps each request in a task group and a stream of its own, which took 7% of
 the event loop's time when a batch client checked on its jobs while they
-rendered. WebSockets pass through; the tile stream checks the token itself,
-as a browser cannot send it in a header.
+rendered. WebSockets are checked for Host and Origin only; the tile stream
+checks the token itself, as a browser cannot send it in a header.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from starlette.responses import JSONResponse
 from starlette.types import ASGIApp, Receive, Scope, Send
 
 from ..core.config import Settings
+from ..core.local_access import CDN_PAGES, CONTENT_SECURITY_POLICY, SECURITY_HEADERS, host_refusal, origin_refusal
 from ..core.security import is_authorized
 
 # Multipart framing around an upload's file, allowed over the upload limit.
@@ -27,15 +29,35 @@ class RequestGuards:
         self.settings = settings
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
-        if scope["type"] == "http":
-            refusal = self._refusal(HTTPConnection(scope), scope["method"])
-            if refusal is not None:
-                await refusal(scope, receive, send)
+        if scope["type"] not in ("http", "websocket"):
+            await self.app(scope, receive, send)
+            return
+        connection = HTTPConnection(scope)
+        if scope["type"] == "websocket":
+            why = host_refusal(self.settings, connection.headers.get("host", "")) or \
+                origin_refusal(self.settings, "POST", connection.headers)  # a handshake acts as one
+            if why is not None:
+                await send({"type": "websocket.close", "code": 1008, "reason": why[:120]})
                 return
-        await self.app(scope, receive, send)
+            await self.app(scope, receive, send)
+            return
+        refusal = self._refusal(connection, scope["method"])
+        headers = SECURITY_HEADERS + ([] if connection.url.path.startswith(CDN_PAGES) else
+                                      [(b"content-security-policy", CONTENT_SECURITY_POLICY)])
+
+        async def send_with_headers(message) -> None:
+            if message["type"] == "http.response.start":
+                message = {**message, "headers": [*message.get("headers", []), *headers]}
+            await send(message)
+
+        await (refusal or self.app)(scope, receive, send_with_headers)
 
     def _refusal(self, request: HTTPConnection, method: str) -> JSONResponse | None:
         path = request.url.path
+        if why := host_refusal(self.settings, request.headers.get("host", "")):
+            return JSONResponse({"detail": why}, status_code=400)
+        if why := origin_refusal(self.settings, method, request.headers):
+            return JSONResponse({"detail": why}, status_code=403)
         if path.startswith("/api/") and not is_authorized(request, self.settings.api_token):
             return JSONResponse({"detail": "this server needs an API token: send 'Authorization: Bearer <token>'"},
                                 status_code=401, headers={"WWW-Authenticate": "Bearer"})

@@ -9,6 +9,11 @@ from pathlib import Path
 REPO_ROOT = Path(__file__).resolve().parents[3]
 
 
+def _names(name: str) -> tuple[str, ...]:
+    """A comma-separated list from the environment, without blanks."""
+    return tuple(part.strip() for part in os.environ.get(name, "").split(",") if part.strip())
+
+
 def _int(name: str, default: int) -> int:
     value = os.environ.get(name)
     if value is None or value == "":
@@ -32,6 +37,12 @@ class Settings:
     embedded_threads: int = field(default_factory=lambda: _int("RT_THREADS", os.cpu_count() or 1))
     # The built viewer (web/dist), served at /.
     web_dir: Path = field(default_factory=lambda: Path(os.environ.get("RT_WEB_DIR", REPO_ROOT / "web" / "dist")))
+    # Host names the server answers besides loopback ones and its bound address
+    # (core/local_access.py), and origins besides its own whose pages may
+    # change things (uploads, jobs) or open the tile stream.
+    allowed_hosts: tuple[str, ...] = field(default_factory=lambda: tuple(h.lower() for h in _names("RT_ALLOWED_HOSTS")))
+    allowed_origins: tuple[str, ...] = field(default_factory=lambda: tuple(o.rstrip("/") for o in
+                                                                           _names("RT_ALLOWED_ORIGINS")))
     # When set, every /api route and the tile WebSocket need it as a bearer token.
     api_token: str = field(default_factory=lambda: os.environ.get("RT_API_TOKEN", ""))
     # Sample scenes (make samples) added to the store at start-up when missing.
