@@ -138,8 +138,10 @@ export async function getJob(id) {
   return parseJson("Job", await request("GET", `/api/jobs/${encodeURIComponent(id)}`));
 }
 
-export async function cancelJob(id) {
-  return parseJson("Job", await request("DELETE", `/api/jobs/${encodeURIComponent(id)}`));
+/** DELETE: a queued or running job is cancelled (its record answered); one that has ended goes (null). */
+export async function deleteJob(id) {
+  const answer = await request("DELETE", `/api/jobs/${encodeURIComponent(id)}`);
+  return answer === null ? null : parseJson("Job", answer);
 }
 
 /** Address of a finished job's image: "image" or an auxiliary output's name, .png or .exr. */

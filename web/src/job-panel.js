@@ -1,6 +1,6 @@
 // The current job's progress (bar, tiles done/total, elapsed, time left),
 // cancel and downloads, and the job history with thumbnails.
-import { cancelJob, jobImageUrl, listJobs } from "./api.js";
+import { deleteJob, jobImageUrl, listJobs } from "./api.js";
 import { layerNames } from "./job-layers.js";
 import { enumName } from "./proto.js";
 
@@ -112,7 +112,9 @@ export class JobPanel extends EventTarget {
     if (!this.job) return;
     this.el.cancel.disabled = true;
     try {
-      this.show(await cancelJob(this.job.id));
+      const cancelled = await deleteJob(this.job.id);
+      if (cancelled) this.show(cancelled);
+      else this.dispatchEvent(new CustomEvent("deleted", { detail: this.job.id })); // it had ended meanwhile
     } catch (e) {
       this.el.error.hidden = false;
       this.el.error.textContent = `Cancel failed: ${e.message}`;
@@ -179,8 +181,35 @@ export class JobPanel extends EventTarget {
       e.preventDefault();
       this.dispatchEvent(new CustomEvent("open", { detail: job.id }));
     });
-    li.append(a);
+    const remove = document.createElement("button");
+    remove.type = "button";
+    remove.className = "icon danger";
+    remove.textContent = "✕";
+    const what = ACTIVE.has(state) ? "Cancel" : "Delete";
+    remove.title = `${what} job ${job.id}`;
+    remove.setAttribute("aria-label", `${what} job ${job.id}`);
+    remove.dataset.job = job.id;
+    remove.addEventListener("click", () => this._remove(job, state));
+    li.append(a, remove);
     return li;
+  }
+
+  /** The history's ✕: cancels a queued or running job, deletes one that has ended with its images. */
+  async _remove(job, state) {
+    const ending = ACTIVE.has(state);
+    if (!ending && !window.confirm(`Delete job ${job.id} and its images?`)) return;
+    try {
+      const cancelled = await deleteJob(job.id);
+      if (cancelled) {
+        if (this.job?.id === job.id) this.show(cancelled);
+      } else {
+        this.dispatchEvent(new CustomEvent("deleted", { detail: job.id }));
+      }
+    } catch (e) {
+      this.el.error.hidden = false;
+      this.el.error.textContent = `${ending ? "Cancel" : "Delete"} failed: ${e.message}`;
+    }
+    this.refreshHistory();
   }
 
   /** A history entry's line: its state and time, and its error against its view's reference when known. */

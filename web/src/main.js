@@ -19,6 +19,7 @@ import { TileView } from "./tiles.js";
 import { ViewSwitch } from "./view-switch.js";
 import { Viewer } from "./viewer.js";
 import { Wipe } from "./wipe.js";
+import { formatBytes } from "./format.js";
 
 const $ = (id) => document.getElementById(id);
 
@@ -236,6 +237,10 @@ tiles.addEventListener("streamerror", (e) => {
 });
 jobPanel.addEventListener("open", (e) => router.go(e.detail));
 jobPanel.addEventListener("cancelled", () => jobPanel.refreshHistory());
+jobPanel.addEventListener("deleted", (e) => {
+  if (state.job?.id === e.detail) router.go(null); // the open job is gone
+  jobPanel.refreshHistory();
+});
 layers.addEventListener("error", (e) => {
   $("job-error").hidden = false;
   $("job-error").textContent = e.detail;
@@ -251,7 +256,8 @@ router.addEventListener("route", (e) => {
 async function start() {
   try {
     const h = await health();
-    $("server-status").textContent = `${h.status} · ${h.workers} workers, ${h.threads} threads`;
+    $("server-status").textContent = `${h.status} · ${h.workers} workers, ${h.threads} threads`
+      + ` · data ${formatBytes(h.data_bytes ?? 0)}, ${formatBytes(h.free_bytes ?? 0)} free`;
     $("server-status").dataset.kind = h.status === "ok" ? "ok" : "error";
   } catch (e) {
     $("server-status").textContent = `server unreachable: ${e.message}`;

@@ -2,15 +2,9 @@
 // server's reason when it refuses a file; the list of stored scenes to pick
 // from, each with a delete button.
 import { deleteScene, listScenes, uploadScene } from "./api.js";
+import { formatBytes } from "./format.js";
 
 const ACCEPT = [".glb", ".gltf", ".obj", ".zip"];
-
-function formatBytes(n) {
-  const value = Number(n);
-  if (value < 1024) return `${value} B`;
-  if (value < 1 << 20) return `${(value / 1024).toFixed(0)} KB`;
-  return `${(value / (1 << 20)).toFixed(1)} MB`;
-}
 
 export class ScenesPanel extends EventTarget {
   constructor(root) {

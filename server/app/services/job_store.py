@@ -69,6 +69,10 @@ class JobStore:
                               (limit, offset)).fetchall()
         return [job_pb2.Job.FromString(r[0]) for r in rows], total
 
+    def delete(self, job_id: str) -> None:
+        with self._db() as db:
+            db.execute("DELETE FROM jobs WHERE id = ?", (job_id,))
+
     def active(self) -> list[job_pb2.Job]:
         """Jobs that were queued or running, oldest first."""
         with self._db() as db:

@@ -122,6 +122,22 @@ class JobManager:
             await asyncio.gather(running.task, return_exceptions=True)
         return running.record
 
+    async def delete(self, job: job_pb2.Job) -> job_pb2.Job | None:
+        """DELETE /api/jobs/{id}: a queued or running job is cancelled, and its
+        record answered (as ever); a job that has ended goes, with its files
+        (None). A view's reference is refused until it is unmarked."""
+        if job.id in self._running:
+            return await self.cancel(job.id)
+        stored = self._scenes.get(job.request.scene_id)
+        if stored is not None and job.id in stored.info.reference_jobs:
+            raise Conflict(f"job '{job.id}' is its view's reference: unmark it first "
+                           f"(DELETE /api/scenes/{job.request.scene_id}/references/{job.id})")
+        self._store.delete(job.id)
+        self._finished_streams.pop(job.id, None)
+        async with self._output_lock:  # not while one of its images is being made
+            await asyncio.to_thread(shutil.rmtree, self.folder(job.id), True)
+        return None
+
     async def delete_scene(self, scene_id: str) -> None:
         """Cancels the scene's running jobs, then deletes the scene (its jobs' records stay)."""
         for job_id in [j for j, r in self._running.items() if r.record.request.scene_id == scene_id]:

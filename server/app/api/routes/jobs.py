@@ -47,10 +47,13 @@ async def get_job(job_id: str, manager: JobManager = Depends(jobs)):
     return proto_json(job_or_404(manager, job_id))
 
 
-@router.delete("/{job_id}", responses={200: json_response(job_pb2.Job, "The job, cancelled (or as it ended)")})
-async def cancel_job(job_id: str, manager: JobManager = Depends(jobs)):
-    job_or_404(manager, job_id)
-    return proto_json(await manager.cancel(job_id))
+@router.delete("/{job_id}", status_code=200, responses={
+    200: json_response(job_pb2.Job, "A queued or running job, cancelled: its record"),
+    204: {"description": "A job that had ended, deleted with its images and layers"},
+    409: {"description": "The job is its view's reference: unmark it first"}})
+async def delete_job(job_id: str, manager: JobManager = Depends(jobs)):
+    cancelled = await manager.delete(job_or_404(manager, job_id))
+    return proto_json(cancelled) if cancelled is not None else Response(status_code=204)
 
 
 @router.get("/{job_id}/image.exr", response_class=FileResponse,
