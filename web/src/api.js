@@ -144,6 +144,11 @@ export async function deleteJob(id) {
   return answer === null ? null : parseJson("Job", answer);
 }
 
+/** Pins a job (kept whatever the retention policy says) or unpins it; answers its record. */
+export async function pinJob(id, pinned) {
+  return parseJson("Job", await request(pinned ? "PUT" : "DELETE", `/api/jobs/${encodeURIComponent(id)}/pin`));
+}
+
 /** Address of a finished job's image: "image" or an auxiliary output's name, .png or .exr. */
 export const jobImageUrl = (jobId, name = "image", ext = "png") =>
   withToken(`/api/jobs/${encodeURIComponent(jobId)}/${name}.${ext}`);

@@ -1,6 +1,6 @@
 // The current job's progress (bar, tiles done/total, elapsed, time left),
 // cancel and downloads, and the job history with thumbnails.
-import { deleteJob, jobImageUrl, listJobs } from "./api.js";
+import { deleteJob, jobImageUrl, listJobs, pinJob } from "./api.js";
 import { layerNames } from "./job-layers.js";
 import { enumName } from "./proto.js";
 
@@ -27,6 +27,7 @@ export class JobPanel extends EventTarget {
       elapsed: root.querySelector("#job-elapsed"),
       left: root.querySelector("#job-left"),
       cancel: root.querySelector("#job-cancel"),
+      pin: root.querySelector("#job-pin"),
       downloads: root.querySelector("#job-downloads"),
       error: root.querySelector("#job-error"),
       history: root.querySelector("#history-list"),
@@ -35,6 +36,7 @@ export class JobPanel extends EventTarget {
     this.job = null;
     this.tilesReceived = 0;
     this.el.cancel.addEventListener("click", () => this._cancel());
+    this.el.pin.addEventListener("click", () => this._pin());
     this.el.more.addEventListener("click", () => this.refreshHistory(this.historyCount + 20));
     this.historyCount = 20;
     this.errors = new Map(); // job id -> its mean FLIP against its view's reference, once a plot told it
@@ -54,6 +56,9 @@ export class JobPanel extends EventTarget {
     this.el.bar.setAttribute("aria-valuetext", `${Math.round(this.el.bar.value * 100)} percent`);
     this._showTiles();
     this.el.cancel.disabled = !ACTIVE.has(state);
+    this.el.pin.disabled = false;
+    this.el.pin.setAttribute("aria-pressed", String(Boolean(job.pinned)));
+    this.el.pin.textContent = job.pinned ? "Pinned" : "Pin";
     this.el.error.hidden = !job.error || state === "DONE";
     this.el.error.textContent = job.error;
     this._showDownloads(job, state);
@@ -122,6 +127,17 @@ export class JobPanel extends EventTarget {
     this.dispatchEvent(new Event("cancelled"));
   }
 
+  async _pin() {
+    if (!this.job) return;
+    try {
+      this.show(await pinJob(this.job.id, !this.job.pinned));
+      this.refreshHistory();
+    } catch (e) {
+      this.el.error.hidden = false;
+      this.el.error.textContent = `Pin failed: ${e.message}`;
+    }
+  }
+
   /** Notes a view's jobs' errors against its reference (an rt.AccuracyPlot), shown in the history. */
   showErrors(plot) {
     if (!plot.referenceId) return;
@@ -173,7 +189,7 @@ export class JobPanel extends EventTarget {
     text.innerHTML = `<strong></strong><small></small>`;
     text.querySelector("strong").textContent = `${s ? `${s.width}×${s.height}` : job.id}`;
     const small = text.querySelector("small");
-    Object.assign(small.dataset, { job: job.id, state: state.toLowerCase(), when });
+    Object.assign(small.dataset, { job: job.id, state: state.toLowerCase(), when, pinned: job.pinned ? "1" : "" });
     this._describe(small);
     a.append(text);
     a.addEventListener("click", (e) => {
@@ -214,9 +230,9 @@ export class JobPanel extends EventTarget {
 
   /** A history entry's line: its state and time, and its error against its view's reference when known. */
   _describe(small) {
-    const { job, state, when } = small.dataset;
+    const { job, state, when, pinned } = small.dataset;
     const flip = this.errors.get(job);
     const error = this.references.has(job) ? " · reference" : flip === undefined ? "" : ` · FLIP ${Number(flip.toPrecision(3))}`;
-    small.textContent = `${state} · ${when}${error}`;
+    small.textContent = `${state} · ${when}${pinned ? " · pinned" : ""}${error}`;
   }
 }

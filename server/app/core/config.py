@@ -14,14 +14,30 @@ def _names(name: str) -> tuple[str, ...]:
     return tuple(part.strip() for part in os.environ.get(name, "").split(",") if part.strip())
 
 
-def _int(name: str, default: int) -> int:
+def _float(name: str, default: float) -> float:
     value = os.environ.get(name)
     if value is None or value == "":
         return default
     try:
-        return int(value)
+        number = float(value)
+    except ValueError:
+        raise SystemExit(f"{name}={value!r}: expected a number") from None
+    if not number >= 0:
+        raise SystemExit(f"{name}={value!r}: expected a number of at least 0")
+    return number
+
+
+def _int(name: str, default: int, minimum: int | None = None) -> int:
+    value = os.environ.get(name)
+    if value is None or value == "":
+        return default
+    try:
+        number = int(value)
     except ValueError:
         raise SystemExit(f"{name}={value!r}: expected an integer") from None
+    if minimum is not None and number < minimum:
+        raise SystemExit(f"{name}={value!r}: expected an integer of at least {minimum}")
+    return number
 
 
 @dataclass(frozen=True)
@@ -57,6 +73,11 @@ class Settings:
     # Finished tile streams kept in memory for late viewers; older jobs are
     # streamed from their image on disk.
     kept_streams: int = field(default_factory=lambda: _int("RT_KEPT_STREAMS", 8))
+    # The retention policy (services/retention.py): jobs that have ended are
+    # removed, with their files, unless among the newest RT_KEEP_JOBS or made
+    # in the last RT_KEEP_DAYS days; 0 turns a rule off, both 0 keep all.
+    keep_jobs: int = field(default_factory=lambda: _int("RT_KEEP_JOBS", 0, minimum=0))
+    keep_days: float = field(default_factory=lambda: _float("RT_KEEP_DAYS", 0.0))
     # Loaded scenes a process keeps (their memory_bytes summed, BVHs included);
     # 0: half of the machine's memory. Read by each worker from its environment.
     scene_cache_bytes: int = field(default_factory=lambda: _int("RT_SCENE_CACHE_MB", 0) << 20)

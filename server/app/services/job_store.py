@@ -69,6 +69,11 @@ class JobStore:
                               (limit, offset)).fetchall()
         return [job_pb2.Job.FromString(r[0]) for r in rows], total
 
+    def ages(self) -> list[tuple[str, float, int]]:
+        """(id, created_at, state) of every job, newest first, without reading the records."""
+        with self._db() as db:
+            return db.execute("SELECT id, created_at, state FROM jobs ORDER BY created_at DESC, id").fetchall()
+
     def delete(self, job_id: str) -> None:
         with self._db() as db:
             db.execute("DELETE FROM jobs WHERE id = ?", (job_id,))

@@ -25,7 +25,7 @@ from rt import job_pb2, render_pb2
 
 from ..core.config import Settings
 from ..core.proto import normalize
-from . import comparisons, layer_files, references
+from . import comparisons, layer_files, references, retention
 from .cluster import RenderCluster
 from .errors import Conflict, Invalid, NotFound, ServiceError
 from .job_image import finish_layers, layer_bytes, output_file, read_rgba
@@ -58,6 +58,7 @@ class JobManager:
         self._finished_streams: OrderedDict[str, TileStream] = OrderedDict()
         self._tiles: dict[str, tuple[RunningJob, TileSpec]] = {}  # Dask key -> its job and tile
         self._output_lock = asyncio.Lock()
+        self._retention: asyncio.Task | None = None
         cluster.client.subscribe_topic(TILE_STARTED_TOPIC, self._tile_started)
 
     async def _tile_started(self, event: tuple[float, str]) -> None:
@@ -132,11 +133,32 @@ class JobManager:
         if stored is not None and job.id in stored.info.reference_jobs:
             raise Conflict(f"job '{job.id}' is its view's reference: unmark it first "
                            f"(DELETE /api/scenes/{job.request.scene_id}/references/{job.id})")
-        self._store.delete(job.id)
-        self._finished_streams.pop(job.id, None)
-        async with self._output_lock:  # not while one of its images is being made
-            await asyncio.to_thread(shutil.rmtree, self.folder(job.id), True)
+        await self._remove(job.id)
         return None
+
+    async def _remove(self, job_id: str) -> None:
+        """A job that has ended, gone: its record, its stream, its files."""
+        self._store.delete(job_id)
+        self._finished_streams.pop(job_id, None)
+        async with self._output_lock:  # not while one of its images is being made
+            await asyncio.to_thread(shutil.rmtree, self.folder(job_id), True)
+
+    def pin(self, job: job_pb2.Job, pinned: bool) -> job_pb2.Job:
+        """Keeps a job whatever the retention policy says, or lets it go again."""
+        record = self._running[job.id].record if job.id in self._running else job
+        record.pinned = pinned
+        self._store.save(record)
+        return record
+
+    async def apply_retention(self) -> None:
+        """Removes the jobs the retention policy lets go (services/retention.py)."""
+        gone = await asyncio.to_thread(retention.expired, self._settings, self._store, self._scenes, time.time())
+        for job_id in gone:
+            if job_id not in self._running:  # none is, unless one was resumed meanwhile
+                await self._remove(job_id)
+        if gone:
+            log.info("retention: removed %d jobs, %s", len(gone), retention.policy(self._settings))
+
 
     async def delete_scene(self, scene_id: str) -> None:
         """Cancels the scene's running jobs, then deletes the scene (its jobs' records stay)."""
@@ -229,13 +251,16 @@ class JobManager:
                 self._end(job, job_pb2.FAILED, "the server restarted and the job's scene is gone")
                 continue
             log.info("resuming job %s", job.id)
-            fresh = job_pb2.Job(id=job.id, state=job_pb2.QUEUED, created_at=job.created_at)
+            fresh = job_pb2.Job(id=job.id, state=job_pb2.QUEUED, created_at=job.created_at, pinned=job.pinned)
             fresh.request.CopyFrom(job.request)
             self._store.save(fresh)
             self.start(fresh, stored)
+        self._retention = asyncio.create_task(retention.keep_applying(self.apply_retention), name="retention")
 
     async def shutdown(self) -> None:
         """Leaves running jobs as they are in the store, to be resumed."""
+        if self._retention is not None:
+            self._retention.cancel()
         for running in list(self._running.values()):
             if running.task is not None:
                 running.task.cancel("shutdown")
@@ -334,6 +359,10 @@ class JobManager:
                 self._finished_streams[job.id] = running.stream
                 while len(self._finished_streams) > self._settings.kept_streams:
                     self._finished_streams.popitem(last=False)
+                try:
+                    await self.apply_retention()
+                except Exception:
+                    log.exception("retention failed after job %s", job.id)
 
 
     @staticmethod

@@ -56,6 +56,17 @@ async def delete_job(job_id: str, manager: JobManager = Depends(jobs)):
     return proto_json(cancelled) if cancelled is not None else Response(status_code=204)
 
 
+@router.put("/{job_id}/pin", responses={200: json_response(job_pb2.Job, "The job, pinned")})
+async def pin_job(job_id: str, manager: JobManager = Depends(jobs)):
+    """Keeps the job whatever the retention policy (RT_KEEP_JOBS, RT_KEEP_DAYS) says."""
+    return proto_json(manager.pin(job_or_404(manager, job_id), True))
+
+
+@router.delete("/{job_id}/pin", responses={200: json_response(job_pb2.Job, "The job, no longer pinned")})
+async def unpin_job(job_id: str, manager: JobManager = Depends(jobs)):
+    return proto_json(manager.pin(job_or_404(manager, job_id), False))
+
+
 @router.get("/{job_id}/image.exr", response_class=FileResponse,
             responses={200: {"content": {"image/x-exr": {}}, "description": "Linear colour and auxiliary layers"}})
 async def job_exr(job_id: str, manager: JobManager = Depends(jobs)):
