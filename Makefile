@@ -22,6 +22,8 @@ export CCACHE_DIR ?= $(HOME)/.cache/ccache
 # Seconds each loader fuzz target runs: in `make test` (and `make fuzz`), and in `make bench`.
 FUZZ_SECONDS ?= 15
 BENCH_FUZZ_SECONDS ?= 300
+# Requests schemathesis makes per API operation and phase: in `make test` (15), and in `make bench`.
+BENCH_API_EXAMPLES ?= 300
 
 .PHONY: help deps venv build build-asan build-fuzz samples web test test-cpp test-asan fuzz test-py test-web run bench charts clean
 
@@ -135,6 +137,7 @@ bench: build samples
 	$(PY) renderer/bench/product_memory.py
 	$(PY) tests/bench/compressed_load_bench.py --scenes $(SCENES) --out $(BUILD)/bench
 	$(MAKE) --no-print-directory fuzz FUZZ_SECONDS=$(BENCH_FUZZ_SECONDS)
+	RT_FUZZ_EXAMPLES=$(BENCH_API_EXAMPLES) $(PY) -m pytest -q tests/server/test_api_contract.py -k schemathesis
 
 # The charts under docs/charts (PNG, CSV and Markdown each, an index.json the
 # viewer's /charts page reads, and README.md): error against render time for each

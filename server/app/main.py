@@ -8,16 +8,15 @@ from contextlib import asynccontextmanager
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
-from fastapi.openapi.utils import get_openapi
 from fastapi.responses import FileResponse, JSONResponse
 from fastapi.staticfiles import StaticFiles
 
 from .api.errors import add_error_handlers
 from .api.guards import RequestGuards
+from .api.openapi import build_schema
 from .api.routes import comparisons, health, jobs, references, scenes
 from .core.allocator import keep_freed_memory
 from .core.config import Settings, load_settings
-from .core.proto import openapi_components
 from .services.cluster import RenderCluster
 from .services.job_store import JobStore
 from .services.jobs import JobManager
@@ -61,9 +60,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
 
     def openapi():
         if app.openapi_schema is None:
-            schema = get_openapi(title=app.title, version="1", summary=app.summary, routes=app.routes)
-            schema.setdefault("components", {}).setdefault("schemas", {}).update(openapi_components())
-            app.openapi_schema = schema
+            app.openapi_schema = build_schema(app)
         return app.openapi_schema
 
     app.openapi = openapi

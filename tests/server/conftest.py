@@ -13,6 +13,7 @@ import pytest
 from fastapi.testclient import TestClient
 
 from app.main import create_app
+from live_server import live_server  # noqa: F401  (a fixture: `python -m app` on a free port)
 from service import service_settings
 
 

@@ -3,67 +3,15 @@ raw requests a hostile page makes a browser send, against a real server bound
 to 127.0.0.1 as `make run` binds it, and the settings that open it up."""
 
 import io
-import os
-import socket
-import subprocess
-import sys
-import time
 import zipfile
-from pathlib import Path
 
 import pytest
 from fastapi.testclient import TestClient
 from starlette.websockets import WebSocketDisconnect
 
 from app.main import create_app
+from live_server import raw
 from service import service_settings
-
-ROOT = Path(__file__).resolve().parents[2]
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-@pytest.fixture(scope="module")
-def server(tmp_path_factory):
-    """`python -m app` on 127.0.0.1, as make run starts it; its port."""
-    data = tmp_path_factory.mktemp("local")
-    port = free_port()
-    env = {**os.environ, "PYTHONPATH": str(ROOT / "server"), "HOST": "127.0.0.1", "PORT": str(port),
-           "RT_DATA_DIR": str(data), "RT_WEB_DIR": str(data / "no-viewer"), "RT_THREADS": "1", "RT_SAMPLES_DIR": ""}
-    process = subprocess.Popen([sys.executable, "-m", "app"], env=env, cwd=ROOT, stdout=subprocess.DEVNULL,
-                               stderr=subprocess.DEVNULL)
-    try:
-        for _ in range(300):
-            if b" 200 " in raw(port, "GET /api/health HTTP/1.1", f"Host: 127.0.0.1:{port}").split(b"\r\n")[0] + b" ":
-                break
-            time.sleep(0.1)
-        yield port
-    finally:
-        process.terminate()
-        process.wait(10)
-
-
-def raw(port: int, request_line: str, *headers: str, body: bytes = b"") -> bytes:
-    """One request as bytes on a socket, exactly as given; the whole answer (or b"" before the server is up).
-    A WebSocket handshake's answer is its first chunk: an accepted one stays open."""
-    upgrade = any(h.lower().startswith("upgrade:") for h in headers)
-    ending = [] if upgrade else [f"Content-Length: {len(body)}", "Connection: close"]
-    message = "\r\n".join([request_line, *headers, *ending, "", ""])
-    try:
-        with socket.create_connection(("127.0.0.1", port), timeout=10) as s:
-            s.sendall(message.encode() + body)
-            chunks = []
-            while chunk := s.recv(65536):
-                chunks.append(chunk)
-                if upgrade:
-                    break
-            return b"".join(chunks)
-    except OSError:
-        return b""
 
 
 def status(answer: bytes) -> int:
@@ -83,51 +31,52 @@ def scene_count(port: int) -> int:
     return answer.count(b'"id"')
 
 
-def test_a_form_post_from_another_site_is_refused(server):
+def test_a_form_post_from_another_site_is_refused(live_server):
     kind, body = upload_body()
-    before = scene_count(server)
-    answer = raw(server, "POST /api/scenes HTTP/1.1", f"Host: 127.0.0.1:{server}", "Origin: http://evil.example",
-                 kind, body=body)
+    before = scene_count(live_server)
+    answer = raw(live_server, "POST /api/scenes HTTP/1.1", f"Host: 127.0.0.1:{live_server}",
+                 "Origin: http://evil.example", kind, body=body)
     assert status(answer) == 403 and b"Origin 'http://evil.example'" in answer and b"RT_ALLOWED_ORIGINS" in answer
     # The same, as a browser that sends only Sec-Fetch-Site.
-    answer = raw(server, "POST /api/scenes HTTP/1.1", f"Host: 127.0.0.1:{server}", "Sec-Fetch-Site: cross-site",
-                 kind, body=body)
+    answer = raw(live_server, "POST /api/scenes HTTP/1.1", f"Host: 127.0.0.1:{live_server}",
+                 "Sec-Fetch-Site: cross-site", kind, body=body)
     assert status(answer) == 403 and b"cross-site" in answer
-    assert scene_count(server) == before, "nothing was stored"
-    # From the server's own page, or from a client that is not a browser, it is accepted.
-    own = raw(server, "POST /api/scenes HTTP/1.1", f"Host: 127.0.0.1:{server}",
-              f"Origin: http://127.0.0.1:{server}", kind, body=body)
+    assert scene_count(live_server) == before, "nothing was stored"
+    # From the live_server's own page, or from a client that is not a browser, it is accepted.
+    own = raw(live_server, "POST /api/scenes HTTP/1.1", f"Host: 127.0.0.1:{live_server}",
+              f"Origin: http://127.0.0.1:{live_server}", kind, body=body)
     assert status(own) == 201, own
-    assert status(raw(server, "POST /api/scenes HTTP/1.1", f"Host: localhost:{server}", kind, body=body)) == 201
-    assert scene_count(server) == before + 2
+    curl = raw(live_server, "POST /api/scenes HTTP/1.1", f"Host: localhost:{live_server}", kind, body=body)
+    assert status(curl) == 201
+    assert scene_count(live_server) == before + 2
 
 
-def test_a_rebound_host_name_is_refused(server):
-    answer = raw(server, "GET /api/health HTTP/1.1", "Host: evil.example")
+def test_a_rebound_host_name_is_refused(live_server):
+    answer = raw(live_server, "GET /api/health HTTP/1.1", "Host: evil.example")
     assert status(answer) == 400 and b"Host 'evil.example'" in answer and b"RT_ALLOWED_HOSTS" in answer
-    assert status(raw(server, "GET / HTTP/1.1", f"Host: evil.example:{server}")) == 400
-    assert status(raw(server, "GET /api/scenes HTTP/1.1", "Host: 127.0.0.1.evil.example")) == 400
-    for host in (f"127.0.0.1:{server}", f"localhost:{server}", f"[::1]:{server}", "localhost"):
-        assert status(raw(server, "GET /api/health HTTP/1.1", f"Host: {host}")) == 200, host
+    assert status(raw(live_server, "GET / HTTP/1.1", f"Host: evil.example:{live_server}")) == 400
+    assert status(raw(live_server, "GET /api/scenes HTTP/1.1", "Host: 127.0.0.1.evil.example")) == 400
+    for host in (f"127.0.0.1:{live_server}", f"localhost:{live_server}", f"[::1]:{live_server}", "localhost"):
+        assert status(raw(live_server, "GET /api/health HTTP/1.1", f"Host: {host}")) == 200, host
 
 
-def test_the_tile_stream_refuses_other_sites(server):
-    handshake = ("GET /api/jobs/x/tiles HTTP/1.1", f"Host: 127.0.0.1:{server}", "Upgrade: websocket",
+def test_the_tile_stream_refuses_other_sites(live_server):
+    handshake = ("GET /api/jobs/x/tiles HTTP/1.1", f"Host: 127.0.0.1:{live_server}", "Upgrade: websocket",
                  "Connection: Upgrade", "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==", "Sec-WebSocket-Version: 13")
-    answer = raw(server, *handshake[:1], *handshake[1:], "Origin: http://evil.example")
+    answer = raw(live_server, *handshake[:1], *handshake[1:], "Origin: http://evil.example")
     assert status(answer) == 403
-    own = raw(server, *handshake[:1], *handshake[1:], f"Origin: http://127.0.0.1:{server}")
+    own = raw(live_server, *handshake[:1], *handshake[1:], f"Origin: http://127.0.0.1:{live_server}")
     assert status(own) == 101
 
 
-def test_every_answer_has_the_security_headers(server):
-    answer = raw(server, "GET /api/health HTTP/1.1", f"Host: 127.0.0.1:{server}").lower()
+def test_every_answer_has_the_security_headers(live_server):
+    answer = raw(live_server, "GET /api/health HTTP/1.1", f"Host: 127.0.0.1:{live_server}").lower()
     for header in (b"x-content-type-options: nosniff", b"referrer-policy: no-referrer", b"x-frame-options: deny",
                    b"cross-origin-opener-policy: same-origin", b"content-security-policy: default-src 'self'"):
         assert header in answer, header
-    refused = raw(server, "GET /api/health HTTP/1.1", "Host: evil.example").lower()
+    refused = raw(live_server, "GET /api/health HTTP/1.1", "Host: evil.example").lower()
     assert b"x-frame-options: deny" in refused
-    docs = raw(server, "GET /docs HTTP/1.1", f"Host: 127.0.0.1:{server}").lower()
+    docs = raw(live_server, "GET /docs HTTP/1.1", f"Host: 127.0.0.1:{live_server}").lower()
     assert b"content-security-policy" not in docs, "Swagger UI comes from its CDN"
 
 

@@ -88,8 +88,11 @@ def _field_schema(field: _descriptor.FieldDescriptor) -> tuple[dict[str, Any], b
             item["maximum"] = limits.max
     if field.label == field.LABEL_REPEATED:
         schema: dict[str, Any] = {"type": "array", "items": item}
-        if limits.count:
+        if limits.count and limits.required:
             schema["minItems"] = schema["maxItems"] = limits.count
+        elif limits.count:  # absent (empty), or exactly `count`
+            schema["maxItems"] = limits.count
+            schema["anyOf"] = [{"maxItems": 0}, {"minItems": limits.count}]
     else:
         schema = item
         if limits.HasField("default"):

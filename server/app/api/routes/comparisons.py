@@ -17,6 +17,7 @@ from ...core.proto import json_response
 from ...services.errors import Invalid
 from ...services.jobs import JobManager
 from ..deps import job_or_404, jobs, proto_json
+from .jobs import MAX_INDEX
 
 router = APIRouter(prefix="/api/jobs", tags=["comparisons"])
 
@@ -29,9 +30,10 @@ REFERENCE_LAYER = Query("color", description="the reference's colour, or its ima
 @router.get("/{job_id}/compare/{reference_id}",
             responses={200: json_response(job_pb2.ImageComparison, "The job's image measured against the reference's")})
 async def compare(job_id: str, reference_id: str,
-                  x: int | None = Query(None, ge=0, description="a rectangle's left column (with y, w and h)"),
-                  y: int | None = Query(None, ge=0), w: int | None = Query(None, ge=1),
-                  h: int | None = Query(None, ge=1), layer: Layer = LAYER, reference_layer: Layer = REFERENCE_LAYER,
+                  x: int | None = Query(None, ge=0, le=MAX_INDEX,
+                                        description="a rectangle's left column (with y, w and h)"),
+                  y: int | None = Query(None, ge=0, le=MAX_INDEX), w: int | None = Query(None, ge=1, le=MAX_INDEX),
+                  h: int | None = Query(None, ge=1, le=MAX_INDEX), layer: Layer = LAYER, reference_layer: Layer = REFERENCE_LAYER,
                   manager: JobManager = Depends(jobs)):
     given = [v is not None for v in (x, y, w, h)]
     if any(given) and not all(given):

@@ -17,20 +17,24 @@ from ..deps import job_or_404, jobs, proto_json
 
 router = APIRouter(prefix="/api/jobs", tags=["jobs"])
 
+# The largest index or pixel coordinate a query takes: SQLite's and numpy's
+# integers are 64-bit, and a larger one was a 500.
+MAX_INDEX = (1 << 31) - 1
 IMAGE_NAMES = ("image", NOISY) + tuple(AUX_CHANNELS)
 LAYER_NAMES = ("color", NOISY) + tuple(AUX_CHANNELS)
 HEAT_RAMP_PNG = heat_ramp_png()
 
 
 @router.post("", status_code=202, openapi_extra=json_body(job_pb2.JobRequest),
-             responses={202: json_response(job_pb2.Job, "The queued job; Location is its address")})
+             responses={202: json_response(job_pb2.Job, "The queued job; Location is its address"),
+                        404: {"description": "scene_id names no scene"}})
 async def submit_job(request: Request, manager: JobManager = Depends(jobs)):
     job = await manager.submit(await request.body())
     return proto_json(job, 202, {"Location": f"/api/jobs/{job.id}"})
 
 
 @router.get("", responses={200: json_response(job_pb2.JobList, "Jobs, newest first")})
-def list_jobs(offset: int = Query(0, ge=0), limit: int = Query(20, ge=1, le=200),
+def list_jobs(offset: int = Query(0, ge=0, le=MAX_INDEX), limit: int = Query(20, ge=1, le=200),
               manager: JobManager = Depends(jobs)):
     page, total = manager.page(offset, limit)
     return proto_json(job_pb2.JobList(jobs=page, total=total, offset=offset))

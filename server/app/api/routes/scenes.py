@@ -60,7 +60,7 @@ async def debug_ray(scene_id: str, request: Request, store: SceneStore = Depends
 @router.get("/{scene_id}/bvh", responses={200: json_response(
     debug_pb2.BvhBoxes, "The boxes of one level of the wide BVH the renderer traverses")})
 async def bvh_boxes(scene_id: str,
-                    level: int = Query(0, ge=0, description="0 is the root; a node's children (nodes, leaves) below it"),
+                    level: int = Query(0, ge=0, le=1024, description="0 is the root; a node's children (nodes, leaves) below it"),
                     leaves: bool = Query(False, description="all leaf boxes instead of one level"),
                     tree: str = Query("top", max_length=10, description=(
                         "top: the top level over the instances (the only tree of a scene without any); "
