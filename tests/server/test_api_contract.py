@@ -23,12 +23,12 @@ SCHEMATHESIS = Path(sys.executable).with_name("schemathesis")
 CHECKS = ["-c", "all", "--exclude-checks", "positive_data_acceptance"]
 
 
-def test_schemathesis_finds_nothing(live_server):
+def test_schemathesis_finds_nothing(live_server, tmp_path):
     examples = os.environ.get("RT_FUZZ_EXAMPLES", "15")
     result = subprocess.run(
         [str(SCHEMATHESIS), "run", f"http://127.0.0.1:{live_server}/openapi.json", "--max-examples", examples,
          "--phases", "examples,coverage,fuzzing", *CHECKS, "--request-timeout", "30", "--seed", "20261206",
-         "--no-color"], capture_output=True, text=True, timeout=1200)
+         "--no-color"], capture_output=True, text=True, timeout=1200, cwd=tmp_path)  # its cache goes there
     assert result.returncode == 0, result.stdout[-8000:] + result.stderr[-2000:]
     assert " passed" in result.stdout
 
