@@ -1,6 +1,7 @@
 """A real `python -m app` for the tests that need one: raw sockets, other clients."""
 
 import os
+import shutil
 import socket
 import subprocess
 import sys
@@ -10,6 +11,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
+SCENES = ROOT / "build" / "scenes"
 
 
 def free_port() -> int:
@@ -20,11 +22,16 @@ def free_port() -> int:
 
 @pytest.fixture(scope="module")
 def live_server(tmp_path_factory):
-    """`python -m app` on 127.0.0.1, as make run starts it; its port."""
+    """`python -m app` on 127.0.0.1, as make run starts it, with the sample
+    Cornell box as its one scene; its port."""
     data = tmp_path_factory.mktemp("local")
+    samples = data / "samples"
+    samples.mkdir()
+    for name in ("cornell.obj", "cornell.mtl", "cornell.rt.json"):
+        shutil.copy(SCENES / name, samples / name)
     port = free_port()
     env = {**os.environ, "PYTHONPATH": str(ROOT / "server"), "HOST": "127.0.0.1", "PORT": str(port),
-           "RT_DATA_DIR": str(data), "RT_WEB_DIR": str(data / "no-viewer"), "RT_THREADS": "1", "RT_SAMPLES_DIR": ""}
+           "RT_DATA_DIR": str(data), "RT_WEB_DIR": str(data / "no-viewer"), "RT_THREADS": "1", "RT_SAMPLES_DIR": str(samples)}
     process = subprocess.Popen([sys.executable, "-m", "app"], env=env, cwd=ROOT, stdout=subprocess.DEVNULL,
                                stderr=subprocess.DEVNULL)
     try:

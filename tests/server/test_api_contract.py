@@ -2,11 +2,14 @@
 operation of /openapi.json against a real server and checks that none is a
 5xx, that every status answered is documented, that every body (errors
 included: one shape, {"detail": "..."}) matches its schema, and that 405s
-list every method of the resource. `make test` runs a short budget
+list every method of the resource; its stateful phase follows the
+document's links (the scenes to a job, a job to its image, its layer and its
+deletion). `make test` runs a short budget
 (RT_FUZZ_EXAMPLES, 15 per operation and phase); `make bench` a long one. The
 failures it found are kept below as regression tests."""
 
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -27,10 +30,13 @@ def test_schemathesis_finds_nothing(live_server, tmp_path):
     examples = os.environ.get("RT_FUZZ_EXAMPLES", "15")
     result = subprocess.run(
         [str(SCHEMATHESIS), "run", f"http://127.0.0.1:{live_server}/openapi.json", "--max-examples", examples,
-         "--phases", "examples,coverage,fuzzing", *CHECKS, "--request-timeout", "30", "--seed", "20261206",
+         "--phases", "examples,coverage,fuzzing,stateful", *CHECKS, "--request-timeout", "30", "--seed", "20261206",
          "--no-color"], capture_output=True, text=True, timeout=1200, cwd=tmp_path)  # its cache goes there
     assert result.returncode == 0, result.stdout[-8000:] + result.stderr[-2000:]
     assert " passed" in result.stdout
+    # The stateful phase went from the scene list to a job, and on to its image, layer and deletion.
+    covered = re.search(r"API Links:\s+(\d+) covered", result.stdout)
+    assert covered and int(covered.group(1)) >= 4, result.stdout[-3000:]
 
 
 def test_a_huge_offset_is_refused_not_a_server_error(live_server):

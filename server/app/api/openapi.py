@@ -50,6 +50,43 @@ def _errors(path: str, method: str, operation: dict[str, Any]) -> dict[str, str]
     return wanted
 
 
+# How answers lead to the next request (OpenAPI links), for clients and for
+# schemathesis's stateful runs: a scene to its jobs, a job to its image, its
+# layers and its deletion. (path, method, status) -> {name: (operation, parameters, body)}.
+SCENE_ID = "$response.body#/id"
+FIRST_SCENE_ID = "$response.body#/scenes/0/id"
+JOB_ID = "$response.body#/id"
+SMALL = {"width": 16, "height": 12}
+LINKS = {
+    ("/api/scenes", "get", "200"): {
+        "GetScene": ("get_scene", {"scene_id": FIRST_SCENE_ID}, None),
+        "SubmitJob": ("submit_job", {}, {"scene_id": FIRST_SCENE_ID, "settings": SMALL}),
+    },
+    ("/api/scenes", "post", "201"): {
+        "GetScene": ("get_scene", {"scene_id": SCENE_ID}, None),
+        "SubmitJob": ("submit_job", {}, {"scene_id": SCENE_ID, "settings": SMALL}),
+        "DeleteScene": ("delete_scene", {"scene_id": SCENE_ID}, None),
+    },
+    ("/api/jobs", "post", "202"): {
+        "GetJob": ("get_job", {"job_id": JOB_ID}, None),
+        "GetImage": ("job_png", {"job_id": JOB_ID, "name": "image"}, None),
+        "GetLayer": ("job_layer", {"job_id": JOB_ID, "name": "color"}, None),
+        "DeleteJob": ("delete_job", {"job_id": JOB_ID}, None),
+    },
+}
+
+
+def _links(schema: dict[str, Any]) -> None:
+    ids = {op["operationId"].split("_api_")[0]: op["operationId"]
+           for item in schema["paths"].values() for op in item.values()}
+    for (path, method, status), links in LINKS.items():
+        response = schema["paths"][path][method]["responses"][status]
+        response["links"] = {
+            name: {"operationId": ids[operation], **({"parameters": parameters} if parameters else {}),
+                   **({"requestBody": body} if body else {})}
+            for name, (operation, parameters, body) in links.items()}
+
+
 def build_schema(app: FastAPI) -> dict[str, Any]:
     schema = get_openapi(title=app.title, version="1", summary=app.summary, routes=app.routes)
     components = schema.setdefault("components", {}).setdefault("schemas", {})
@@ -66,4 +103,5 @@ def build_schema(app: FastAPI) -> dict[str, Any]:
             for status, response in responses.items():
                 if status.startswith(("4", "5")):
                     response["content"] = ERROR_CONTENT
+    _links(schema)
     return schema
