@@ -22,12 +22,12 @@ def free_port() -> int:
 
 @pytest.fixture(scope="module")
 def live_server(tmp_path_factory):
-    """`python -m app` on 127.0.0.1, as make run starts it, with the sample
-    Cornell box as its one scene; its port."""
+    """`python -m app` on 127.0.0.1, as make run starts it, with three small
+    sample scenes; its port."""
     data = tmp_path_factory.mktemp("local")
     samples = data / "samples"
     samples.mkdir()
-    for name in ("cornell.obj", "cornell.mtl", "cornell.rt.json"):
+    for name in ("cornell.obj", "cornell.mtl", "cornell.rt.json", "teapot.glb", "smooth_sphere.glb"):
         shutil.copy(SCENES / name, samples / name)
     port = free_port()
     env = {**os.environ, "PYTHONPATH": str(ROOT / "server"), "HOST": "127.0.0.1", "PORT": str(port),
