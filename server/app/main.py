@@ -17,6 +17,7 @@ from .api.openapi import build_schema
 from .api.routes import comparisons, health, jobs, references, scenes
 from .core.allocator import keep_freed_memory
 from .core.config import Settings, load_settings
+from .core.security import keep_tokens_out_of_logs
 from .services.cluster import RenderCluster
 from .services.job_store import JobStore
 from .services.jobs import JobManager
@@ -27,6 +28,7 @@ log = logging.getLogger("rt")
 
 def create_app(settings: Settings | None = None) -> FastAPI:
     settings = settings or load_settings()
+    keep_tokens_out_of_logs()
 
     @asynccontextmanager
     async def lifespan(app: FastAPI):

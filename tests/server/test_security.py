@@ -62,3 +62,16 @@ def test_uploads_over_the_limit_are_refused_before_they_are_read(tmp_path):
         assert small_but_over.status_code == 413, "the streamed count catches what the header check lets by"
         assert client.get("/api/scenes").json()["scenes"] == []
         assert not any((settings.scenes_dir).iterdir()), "nothing is left on disk"
+
+
+def test_a_token_in_the_query_stays_out_of_the_access_log(tmp_path, caplog):
+    import logging
+
+    with TestClient(create_app(service_settings(tmp_path, api_token=TOKEN))):
+        access = logging.getLogger("uvicorn.access")
+        with caplog.at_level(logging.INFO, logger="uvicorn.access"):
+            # As uvicorn logs a request: client, method, path with its query, HTTP version, status.
+            access.info('%s - "%s %s HTTP/%s" %d', "127.0.0.1:5000", "GET",
+                        f"/api/jobs/x/tiles?a=1&token={TOKEN}&b=2", "1.1", 200)
+    line = caplog.records[-1].getMessage()
+    assert TOKEN not in line and "token=[redacted]" in line and "a=1" in line and "b=2" in line

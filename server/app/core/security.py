@@ -1,12 +1,15 @@
 """The optional API token (RT_API_TOKEN).
 
 Clients send it as `Authorization: Bearer <token>`. Browsers cannot set headers
-on a WebSocket, an <img> or a download link, so `?token=<token>` is accepted too.
+on a WebSocket, an <img> or a download link, so `?token=<token>` is accepted too,
+and kept out of the access log.
 """
 
 from __future__ import annotations
 
 import hmac
+import logging
+import re
 
 from starlette.requests import HTTPConnection
 
@@ -17,6 +20,31 @@ def presented_token(connection: HTTPConnection) -> str:
     if scheme.lower() == "bearer" and credentials:
         return credentials.strip()
     return connection.query_params.get("token", "")
+
+
+_TOKEN_IN_QUERY = re.compile(r"(?<=[?&])token=[^&\s]*")
+
+
+def redact(path: str) -> str:
+    """A request path with any `token=` query value replaced."""
+    return _TOKEN_IN_QUERY.sub("token=[redacted]", path)
+
+
+class TokenRedaction(logging.Filter):
+    """Keeps `?token=` values out of uvicorn's access log (its record's args are
+    client, method, path with query, HTTP version, status)."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        args = record.args
+        if isinstance(args, tuple) and len(args) >= 3 and isinstance(args[2], str) and "token=" in args[2]:
+            record.args = (*args[:2], redact(args[2]), *args[3:])
+        return True
+
+
+def keep_tokens_out_of_logs() -> None:
+    access = logging.getLogger("uvicorn.access")
+    if not any(isinstance(f, TokenRedaction) for f in access.filters):
+        access.addFilter(TokenRedaction())
 
 
 def is_authorized(connection: HTTPConnection, token: str) -> bool:
