@@ -175,18 +175,21 @@ function decodeLayer(name, bytes) {
 
 /** Job `jobId`'s image measured against `referenceId`'s: rt.ImageComparison, over `rect` ({x, y, w, h}) or all. */
 export async function compareJobs(jobId, referenceId, rect = null, referenceLayer = "color") {
-  const query = new URLSearchParams(rect ? { x: rect.x, y: rect.y, w: rect.w, h: rect.h } : {});
-  if (referenceLayer !== "color") query.set("reference_layer", referenceLayer);
-  const path = `/api/jobs/${encodeURIComponent(jobId)}/compare/${encodeURIComponent(referenceId)}`
-    + (query.size ? `?${query}` : "");
-  return parseJson("ImageComparison", await request("GET", path));
+  const region = rect ? { x: rect.x, y: rect.y, w: rect.w, h: rect.h } : {};
+  return parseJson("ImageComparison", await request("GET", comparePath(jobId, referenceId, "", referenceLayer, region)));
 }
 
 /** The HDR-FLIP map of a job against a reference ("noisy": its image before denoising), as jobLayer answers a layer. */
 export async function flipMap(jobId, referenceId, referenceLayer = "color") {
-  const query = referenceLayer === "color" ? "" : `?reference_layer=${encodeURIComponent(referenceLayer)}`;
-  const path = `/api/jobs/${encodeURIComponent(jobId)}/compare/${encodeURIComponent(referenceId)}/flip${query}`;
-  return decodeLayer("flip", await requestBytes(path));
+  return decodeLayer("flip", await requestBytes(comparePath(jobId, referenceId, "/flip", referenceLayer)));
+}
+
+/** /api/jobs/{job}/compare/{reference}{suffix}, with the reference's layer when not its colour. */
+function comparePath(jobId, referenceId, suffix, referenceLayer, params = {}) {
+  const query = new URLSearchParams(params);
+  if (referenceLayer !== "color") query.set("reference_layer", referenceLayer);
+  return `/api/jobs/${encodeURIComponent(jobId)}/compare/${encodeURIComponent(referenceId)}${suffix}`
+    + (query.size ? `?${query}` : "");
 }
 
 /** Marks a done job as its view's reference; answers the scene's rt.SceneInfo. */

@@ -116,15 +116,20 @@ export class JobPanel extends EventTarget {
   async _cancel() {
     if (!this.job) return;
     this.el.cancel.disabled = true;
+    await this._delete(this.job.id, "Cancel"); // a job that ended meanwhile goes
+    this.dispatchEvent(new Event("cancelled"));
+  }
+
+  /** DELETE: a queued or running job is cancelled (shown, when open); one that has ended goes ("deleted"). */
+  async _delete(jobId, what) {
     try {
-      const cancelled = await deleteJob(this.job.id);
-      if (cancelled) this.show(cancelled);
-      else this.dispatchEvent(new CustomEvent("deleted", { detail: this.job.id })); // it had ended meanwhile
+      const cancelled = await deleteJob(jobId);
+      if (!cancelled) this.dispatchEvent(new CustomEvent("deleted", { detail: jobId }));
+      else if (this.job?.id === jobId) this.show(cancelled);
     } catch (e) {
       this.el.error.hidden = false;
-      this.el.error.textContent = `Cancel failed: ${e.message}`;
+      this.el.error.textContent = `${what} failed: ${e.message}`;
     }
-    this.dispatchEvent(new Event("cancelled"));
   }
 
   async _pin() {
@@ -214,17 +219,7 @@ export class JobPanel extends EventTarget {
   async _remove(job, state) {
     const ending = ACTIVE.has(state);
     if (!ending && !window.confirm(`Delete job ${job.id} and its images?`)) return;
-    try {
-      const cancelled = await deleteJob(job.id);
-      if (cancelled) {
-        if (this.job?.id === job.id) this.show(cancelled);
-      } else {
-        this.dispatchEvent(new CustomEvent("deleted", { detail: job.id }));
-      }
-    } catch (e) {
-      this.el.error.hidden = false;
-      this.el.error.textContent = `${ending ? "Cancel" : "Delete"} failed: ${e.message}`;
-    }
+    await this._delete(job.id, ending ? "Cancel" : "Delete");
     this.refreshHistory();
   }
 

@@ -19,6 +19,8 @@ from ..core.config import Settings
 from ..core.local_access import CDN_PAGES, CONTENT_SECURITY_POLICY, SECURITY_HEADERS, host_refusal, origin_refusal
 from ..core.security import is_authorized
 
+# What every answer carries; pages but Swagger's and ReDoc's, the CSP too.
+WITH_CSP = [*SECURITY_HEADERS, (b"content-security-policy", CONTENT_SECURITY_POLICY)]
 # Multipart framing around an upload's file, allowed over the upload limit.
 UPLOAD_FRAMING_BYTES = 1 << 20
 
@@ -42,8 +44,7 @@ class RequestGuards:
             await self.app(scope, receive, send)
             return
         refusal = self._refusal(connection, scope["method"])
-        headers = SECURITY_HEADERS + ([] if connection.url.path.startswith(CDN_PAGES) else
-                                      [(b"content-security-policy", CONTENT_SECURITY_POLICY)])
+        headers = SECURITY_HEADERS if connection.url.path.startswith(CDN_PAGES) else WITH_CSP
 
         async def send_with_headers(message) -> None:
             if message["type"] == "http.response.start":

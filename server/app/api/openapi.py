@@ -77,6 +77,7 @@ LINKS = {
 
 
 def _links(schema: dict[str, Any]) -> None:
+    # FastAPI's operationId is the route function's name, then "_api_" and the path.
     ids = {op["operationId"].split("_api_")[0]: op["operationId"]
            for item in schema["paths"].values() for op in item.values()}
     for (path, method, status), links in LINKS.items():

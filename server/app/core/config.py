@@ -14,30 +14,23 @@ def _names(name: str) -> tuple[str, ...]:
     return tuple(part.strip() for part in os.environ.get(name, "").split(",") if part.strip())
 
 
-def _float(name: str, default: float) -> float:
+def _number(name: str, default, kind: type, minimum=None):
+    """An int or float setting; SystemExit naming it when it is not one, or below `minimum` (NaN included)."""
     value = os.environ.get(name)
     if value is None or value == "":
         return default
+    what = "an integer" if kind is int else "a number"
     try:
-        number = float(value)
+        number = kind(value)
     except ValueError:
-        raise SystemExit(f"{name}={value!r}: expected a number") from None
-    if not number >= 0:
-        raise SystemExit(f"{name}={value!r}: expected a number of at least 0")
+        raise SystemExit(f"{name}={value!r}: expected {what}") from None
+    if minimum is not None and not number >= minimum:
+        raise SystemExit(f"{name}={value!r}: expected {what} of at least {minimum}")
     return number
 
 
 def _int(name: str, default: int, minimum: int | None = None) -> int:
-    value = os.environ.get(name)
-    if value is None or value == "":
-        return default
-    try:
-        number = int(value)
-    except ValueError:
-        raise SystemExit(f"{name}={value!r}: expected an integer") from None
-    if minimum is not None and number < minimum:
-        raise SystemExit(f"{name}={value!r}: expected an integer of at least {minimum}")
-    return number
+    return _number(name, default, int, minimum)
 
 
 @dataclass(frozen=True)
@@ -77,7 +70,7 @@ class Settings:
     # removed, with their files, unless among the newest RT_KEEP_JOBS or made
     # in the last RT_KEEP_DAYS days; 0 turns a rule off, both 0 keep all.
     keep_jobs: int = field(default_factory=lambda: _int("RT_KEEP_JOBS", 0, minimum=0))
-    keep_days: float = field(default_factory=lambda: _float("RT_KEEP_DAYS", 0.0))
+    keep_days: float = field(default_factory=lambda: _number("RT_KEEP_DAYS", 0.0, float, minimum=0))
     # Loaded scenes a process keeps (their memory_bytes summed, BVHs included);
     # 0: half of the machine's memory. Read by each worker from its environment.
     scene_cache_bytes: int = field(default_factory=lambda: _int("RT_SCENE_CACHE_MB", 0) << 20)

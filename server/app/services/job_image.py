@@ -141,6 +141,10 @@ def layer_bytes(folder: Path, name: str) -> bytes:
     values = np.ascontiguousarray(layer_files.load(folder, name), dtype="<f4")
     if values.ndim == 2:
         values = values[..., None]
-    channels = (["R", "G", "B"] if name == "color" else [f"{name}.{c}" for c in "RGB"] if name == layer_files.NOISY
-                else rtcore.aux_channel_names(name))
+    if name == "color":
+        channels = ["R", "G", "B"]
+    elif name == layer_files.NOISY:
+        channels = [f"{name}.{c}" for c in "RGB"]  # as image.exr names them
+    else:
+        channels = rtcore.aux_channel_names(name)
     return layer_files.layer_message(name, values, channels).SerializeToString()

@@ -129,8 +129,7 @@ class JobManager:
         (None). A view's reference is refused until it is unmarked."""
         if job.id in self._running:
             return await self.cancel(job.id)
-        stored = self._scenes.get(job.request.scene_id)
-        if stored is not None and job.id in stored.info.reference_jobs:
+        if job.id in references.reference_ids(self._scenes):
             raise Conflict(f"job '{job.id}' is its view's reference: unmark it first "
                            f"(DELETE /api/scenes/{job.request.scene_id}/references/{job.id})")
         await self._remove(job.id)
@@ -144,11 +143,11 @@ class JobManager:
             await asyncio.to_thread(shutil.rmtree, self.folder(job_id), True)
 
     def pin(self, job: job_pb2.Job, pinned: bool) -> job_pb2.Job:
-        """Keeps a job whatever the retention policy says, or lets it go again."""
-        record = self._running[job.id].record if job.id in self._running else job
-        record.pinned = pinned
-        self._store.save(record)
-        return record
+        """Keeps a job (as get() answers it: a running one's live record) whatever
+        the retention policy says, or lets it go again."""
+        job.pinned = pinned
+        self._store.save(job)
+        return job
 
     async def apply_retention(self) -> None:
         """Removes the jobs the retention policy lets go (services/retention.py)."""
@@ -158,7 +157,6 @@ class JobManager:
                 await self._remove(job_id)
         if gone:
             log.info("retention: removed %d jobs, %s", len(gone), retention.policy(self._settings))
-
 
     async def delete_scene(self, scene_id: str) -> None:
         """Cancels the scene's running jobs, then deletes the scene (its jobs' records stay)."""

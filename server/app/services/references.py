@@ -53,6 +53,11 @@ def same_view(a: job_pb2.Job, b: job_pb2.Job) -> bool:
             and _close(a.request.camera, b.request.camera))
 
 
+def reference_ids(scenes: SceneStore) -> set[str]:
+    """Every view's reference, over all scenes: jobs that deletion and retention keep."""
+    return {r for stored in scenes.all() for r in stored.info.reference_jobs}
+
+
 def reference_for(scenes: SceneStore, manager, job: job_pb2.Job) -> job_pb2.Job | None:
     """The reference of the job's view, or None."""
     stored = scenes.get(job.request.scene_id)

@@ -15,6 +15,7 @@ from collections.abc import Awaitable, Callable
 
 from ..core.config import Settings
 from .job_store import ACTIVE_STATES, JobStore
+from .references import reference_ids
 from .scene_store import SceneStore
 
 DAY_SECONDS = 86400.0
@@ -30,7 +31,7 @@ def expired(settings: Settings, store: JobStore, scenes: SceneStore, now: float)
     if not settings.keep_jobs and not settings.keep_days:
         return []
     cutoff = now - settings.keep_days * DAY_SECONDS if settings.keep_days else None
-    references = {r for stored in scenes.all() for r in stored.info.reference_jobs}
+    references = reference_ids(scenes)
     gone = []
     for rank, (job_id, created_at, state) in enumerate(store.ages()):
         if (settings.keep_jobs and rank < settings.keep_jobs) or (cutoff is not None and created_at >= cutoff):
