@@ -14,11 +14,12 @@ from fastapi.staticfiles import StaticFiles
 from .api.errors import add_error_handlers
 from .api.guards import RequestGuards
 from .api.openapi import build_schema
-from .api.routes import comparisons, health, jobs, references, scenes
+from .api.routes import cluster, comparisons, health, jobs, references, scenes
 from .core.allocator import keep_freed_memory
 from .core.config import Settings, load_settings
 from .core.security import keep_tokens_out_of_logs
 from .services.cluster import RenderCluster
+from .services.data_access import server_access
 from .services.job_store import JobStore
 from .services.jobs import JobManager
 from .services.scene_store import SceneStore
@@ -35,12 +36,14 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         settings.data_dir.mkdir(parents=True, exist_ok=True)
         keep_freed_memory()
         app.state.settings = settings
+        app.state.data_access = server_access(settings)
         app.state.scenes = SceneStore(settings)
         if settings.samples_dir and settings.samples_dir.is_dir():
             added = await asyncio.to_thread(app.state.scenes.import_samples, settings.samples_dir)
             log.info("added %d sample scenes from %s", added, settings.samples_dir)
         app.state.cluster = await RenderCluster.start(settings)
-        app.state.jobs = JobManager(settings, app.state.cluster, app.state.scenes, JobStore(settings.database))
+        app.state.jobs = JobManager(settings, app.state.cluster, app.state.scenes, JobStore(settings.database),
+                                    app.state.data_access)
         await app.state.jobs.resume()
         try:
             yield
@@ -49,7 +52,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             await app.state.cluster.close()
 
     app = FastAPI(title="rt", summary="Ray tracing render service", lifespan=lifespan)
-    for router in (health.router, scenes.router, jobs.router, comparisons.router, references.router):
+    for router in (health.router, scenes.router, jobs.router, comparisons.router, references.router, cluster.router):
         app.include_router(router)
 
     app.add_middleware(RequestGuards, settings=settings)

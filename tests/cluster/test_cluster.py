@@ -4,104 +4,21 @@ on the workers; a worker killed mid-job costs only its tiles: the job
 completes with the same image."""
 
 import io
-import os
-import signal
-import socket
 import subprocess
-import sys
 import time
-from pathlib import Path
 
-import httpx
 import numpy as np
 import pytest
-import rtcore
 import yaml
 from PIL import Image
 from rt import render_pb2
 
-ROOT = Path(__file__).resolve().parents[2]
-VENV_BIN = Path(sys.executable).parent
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-def wait_until(check, timeout: float, what: str):
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        try:
-            value = check()
-            if value:
-                return value
-        except (httpx.HTTPError, OSError):
-            pass
-        time.sleep(0.1)
-    raise AssertionError(f"timed out waiting for {what}")
-
-
-class Topology:
-    def __init__(self, data_dir: Path, logs: Path):
-        self.scheduler_port = free_port()
-        self.port = free_port()
-        self.env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT / "server"), str(ROOT / "build/renderer/python")]),
-                    "RT_DATA_DIR": str(data_dir), "RT_SCHEDULER": f"tcp://127.0.0.1:{self.scheduler_port}",
-                    "HOST": "127.0.0.1", "PORT": str(self.port), "RT_WEB_DIR": str(data_dir / "no-viewer")}
-        self.logs = logs
-        self.workers: list[subprocess.Popen] = []
-        self.processes: list[subprocess.Popen] = []
-
-    def spawn(self, name: str, *args: str) -> subprocess.Popen:
-        log = open(self.logs / f"{name}.log", "wb")
-        process = subprocess.Popen(args, env=self.env, stdout=log, stderr=subprocess.STDOUT, cwd=ROOT,
-                                   start_new_session=True)
-        self.processes.append(process)
-        return process
-
-    def start(self, client: httpx.Client) -> None:
-        address = self.env["RT_SCHEDULER"]
-        self.spawn("scheduler", str(VENV_BIN / "dask"), "scheduler", "--host", "127.0.0.1",
-                   "--port", str(self.scheduler_port), "--dashboard-address", ":0", "--no-show")
-        for i in range(2):
-            self.workers.append(self.spawn(f"worker{i}", str(VENV_BIN / "dask"), "worker", address,
-                                           "--nthreads", "1", "--no-nanny", "--name", f"w{i}",
-                                           "--dashboard-address", ":0"))
-        self.spawn("server", sys.executable, "-m", "app")
-        wait_until(lambda: client.get("/api/health").json()["workers"] == 2, 60, "the server and two workers")
-
-    def stop(self) -> None:
-        for process in self.processes:
-            if process.poll() is None:
-                os.killpg(process.pid, signal.SIGTERM)
-        for process in self.processes:
-            try:
-                process.wait(10)
-            except subprocess.TimeoutExpired:
-                os.killpg(process.pid, signal.SIGKILL)
+from topology import ROOT, expected_png, started, wait_until
 
 
 @pytest.fixture(scope="module")
 def service(tmp_path_factory):
-    topology = Topology(tmp_path_factory.mktemp("data"), tmp_path_factory.mktemp("logs"))
-    client = httpx.Client(base_url=f"http://127.0.0.1:{topology.port}", timeout=30)
-    try:
-        topology.start(client)
-        yield topology, client
-    finally:
-        topology.stop()
-        client.close()
-
-
-def expected_png(scene_path: Path, camera: dict, settings: render_pb2.RenderSettings) -> np.ndarray:
-    """The same render in this process, encoded as the service encodes."""
-    from google.protobuf.json_format import ParseDict
-
-    scene = rtcore.Scene.load(str(scene_path))
-    camera_bytes = ParseDict(camera, render_pb2.Camera()).SerializeToString()
-    return rtcore.encode_srgb8(scene.render(camera_bytes, settings.SerializeToString(), threads=2))
+    yield from started(tmp_path_factory, shared_folder=True)
 
 
 def executing_tiles(topology) -> dict[str, int]:
@@ -145,6 +62,8 @@ def test_a_killed_worker_costs_only_its_tiles(service, scenes_dir):
                       ("DONE", "FAILED", "CANCELLED") and j, 120, "the job to end")
     assert done["state"] == "DONE", done["error"]
     assert done["tiles_done"] == done["tiles_total"]
+    # Both workers see the server's data folder and wrote their tiles there.
+    assert 0 < done["tiles_via_shared_folder"] <= done["tiles_total"] and done["tiles_via_network"] == 0
     assert client.get("/api/health").json()["workers"] == 1
     png = np.asarray(Image.open(io.BytesIO(client.get(f"/api/jobs/{job['id']}/image.png").content)).convert("RGBA"))
     reference = expected_png(scenes_dir / "dragon_3.glb", done["request"]["camera"],

@@ -243,6 +243,8 @@ def test_pixels_the_preview_traced_are_not_traced_again(client, cornell_id, scen
     job = wait_for(client, submit(client, cornell_id, settings=settings, outputs=["DEPTH", "BVH_COST"],
                                   interactive=True).json()["id"])
     assert job["state"] == "DONE" and job["passes"] == 2
+    # The embedded cluster's worker sees the data folder: it wrote every full-resolution tile there.
+    assert job["tiles_via_shared_folder"] == job["tiles_total"] - 1 and job["tiles_via_network"] == 0
     scene = rtcore.Scene.load(str(scenes_dir / "cornell.obj"))
     request = job_pb2.JobRequest()
     json_format.ParseDict(job["request"], request)

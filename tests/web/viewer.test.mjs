@@ -168,6 +168,9 @@ describe("rt viewer", { timeout: 170_000 }, () => {
     assert.deepEqual(await page.evaluate(() => window.rt.overlay.running), [], "no outline is left when the job is done");
     assert.equal(paints.at(-1).received, job.tiles_total, "every tile arrived");
     assert.equal(await page.textContent("#job-tiles"), `${job.tiles_total} / ${job.tiles_total}`);
+    assert.ok(job.tiles_via_shared_folder > 0, "the embedded worker writes its tiles into the data folder");
+    assert.equal(await page.getAttribute("#job-tiles", "title"),
+      `${job.tiles_via_shared_folder} written by workers into the shared data folder, 0 sent back over the network`);
 
     const diff = await page.evaluate(async (url) => {
       const canvas = document.getElementById("image-canvas");

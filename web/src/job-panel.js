@@ -77,6 +77,7 @@ export class JobPanel extends EventTarget {
     const total = job.tilesTotal;
     const done = stateOf(job) === "DONE" ? total : Math.min(Math.max(job.tilesDone, this.tilesReceived), total);
     this.el.tiles.textContent = total ? `${done} / ${total}` : "–";
+    this.el.tiles.title = tileRoutes(job);
   }
 
   _showTimes() {
@@ -230,4 +231,13 @@ export class JobPanel extends EventTarget {
     const error = this.references.has(job) ? " · reference" : flip === undefined ? "" : ` · FLIP ${Number(flip.toPrecision(3))}`;
     small.textContent = `${state} · ${when}${pinned ? " · pinned" : ""}${error}`;
   }
+}
+
+/** How the job's full-resolution tiles reached its image: workers that see the
+ * server's data folder write them there, others send them back. */
+function tileRoutes(job) {
+  const shared = job.tilesViaSharedFolder || 0;
+  const network = job.tilesViaNetwork || 0;
+  if (!shared && !network) return "";
+  return `${shared} written by workers into the shared data folder, ${network} sent back over the network`;
 }

@@ -41,6 +41,10 @@ class Settings:
     data_dir: Path = field(default_factory=lambda: Path(os.environ.get("RT_DATA_DIR", REPO_ROOT / "data")).resolve())
     # A Dask scheduler address (tcp://host:8786); empty: an embedded local cluster.
     scheduler: str = field(default_factory=lambda: os.environ.get("RT_SCHEDULER", ""))
+    # Where workers that do not see the data folder fetch scenes from
+    # (services/data_access.py); empty: the bound address, or this machine's
+    # name when bound to every interface.
+    server_url: str = field(default_factory=lambda: os.environ.get("RT_SERVER_URL", "").strip())
     # The embedded cluster: worker threads run in the server process and share
     # its scene cache; rendering releases the GIL.
     embedded_threads: int = field(default_factory=lambda: _int("RT_THREADS", os.cpu_count() or 1))

@@ -6,7 +6,8 @@ added after the same reports.
   rebinding) and then read the API as same-origin. A server bound to a
   loopback address answers only Host names that are loopback ones, its bound
   address, or RT_ALLOWED_HOSTS; one bound to all interfaces answers any Host
-  unless RT_ALLOWED_HOSTS lists them.
+  unless RT_ALLOWED_HOSTS lists them. The name workers reach it by
+  (RT_SERVER_URL) is answered too.
 - Origin: any page can send a form post (a multipart upload) or open a
   WebSocket without a preflight. State-changing requests and WebSocket
   handshakes from a browser are refused unless their Origin is the server's
@@ -63,7 +64,8 @@ def _all_interfaces(name: str) -> bool:
 def host_refusal(settings: Settings, host_header: str) -> str | None:
     """Why a request's Host is refused, or None."""
     name = _hostname(host_header)
-    if name and (_is_loopback(name) or name in settings.allowed_hosts or name == settings.host.lower()):
+    if name and (_is_loopback(name) or name in settings.allowed_hosts or name == settings.host.lower()
+                 or name == _hostname(urlsplit(settings.server_url).netloc)):
         return None
     if _all_interfaces(settings.host) and not settings.allowed_hosts:
         return None

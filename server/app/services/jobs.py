@@ -2,7 +2,8 @@
 job record, the tile stream and the finished images.
 
 Each tile is one Dask task (tile_tasks.render_tile), which writes its pixels
-into the job's layer files. The server keeps the job's record, forwards each
+into the job's layer files, or sends them back for the server to write when
+its worker does not see the data folder. The server keeps the job's record, forwards each
 tile to the job's viewers as it comes back, then the record it changed, and
 persists the record at each change of state, so that a restart can pick the
 job up again from the start.
@@ -27,9 +28,11 @@ from ..core.config import Settings
 from ..core.proto import normalize
 from . import comparisons, layer_files, references, retention
 from .cluster import RenderCluster
+from .data_access import DataAccess
 from .errors import Conflict, Invalid, NotFound, ServiceError
 from .job_image import finish_layers, layer_bytes, output_file, read_rgba
 from .job_store import JobStore
+from .layer_files import layer_array
 from .scene_store import SceneStore, StoredScene
 from .streams import TileStream
 from .tile_plan import TileSpec, grid_size, plan_passes, rays_per_pixel
@@ -49,8 +52,10 @@ class RunningJob:
 
 
 class JobManager:
-    def __init__(self, settings: Settings, cluster: RenderCluster, scenes: SceneStore, store: JobStore):
+    def __init__(self, settings: Settings, cluster: RenderCluster, scenes: SceneStore, store: JobStore,
+                 access: DataAccess):
         self._settings = settings
+        self._access = access
         self._cluster = cluster
         self._scenes = scenes
         self._store = store
@@ -294,15 +299,15 @@ class JobManager:
         folder = self.folder(job.id)
         run_id = f"{job.id}-{secrets.token_hex(3)}"  # a resumed job is a new run, with keys of its own
         futures: dict[str, TileSpec] = {}
-        submitted = []
+        submitted = set()  # those not handled yet: a handled tile's result may leave the workers' memory
         pixels_done = camera_samples = 0
         shutdown = False
         try:
             layers_dir = await asyncio.to_thread(layer_files.create, folder, request.settings.width,
                                                  request.settings.height, grid_size(passes[-1]), aux_names(request),
                                                  noisy=denoise)
-            args = (running.scene.sha256, str(running.scene.scene_file), request.SerializeToString(), job.id,
-                    run_id, str(layers_dir))
+            args = (self._access, running.scene.sha256, str(running.scene.scene_file), request.SerializeToString(),
+                    job.id, run_id, str(layers_dir))
             keys: dict[TileSpec, str] = {}
             tasks, priorities = {}, {}
             for spec in specs:  # previews first: a tile's task names its preview's key, whose result it takes
@@ -311,11 +316,13 @@ class JobManager:
                 priorities[key] = spec.priority
                 futures[key] = spec
                 self._tiles[key] = (running, spec)
-            submitted = self._cluster.submit(f"job-{run_id}", tasks, priorities)
-            async for future in as_completed(submitted):
+            submitted = set(self._cluster.submit(f"job-{run_id}", tasks, priorities))
+            async for future in as_completed(list(submitted)):
                 spec = futures[future.key]
                 result = await future
                 self._tiles.pop(future.key, None)
+                if spec.scale == 1:
+                    await _store_tile(job, layers_dir, spec, result)
                 if job.state == job_pb2.QUEUED:
                     job.state = job_pb2.RUNNING
                     job.started_at = result.started
@@ -331,6 +338,7 @@ class JobManager:
                 job.render_seconds += result.seconds
                 job.rays += result.rays
                 await running.stream.update(job)  # its new state (the first tile's) and progress
+                submitted.discard(future)
             if last_pass:
                 await self._last_pass(running, folder, len(passes))
             layer_files.complete(folder)
@@ -338,14 +346,14 @@ class JobManager:
             if request.reference:
                 self._mark_reference(job)
         except asyncio.CancelledError as e:
-            await self._cluster.stop(run_id, submitted)
+            await self._cluster.stop(run_id, list(submitted))
             shutdown = "shutdown" in e.args
             if not shutdown:
                 shutil.rmtree(folder, ignore_errors=True)
                 self._end(job, job_pb2.CANCELLED, "cancelled by request")
         except Exception as e:  # a tile failed (or its files could not be made): the job fails with the reason
             log.exception("job %s failed", job.id)
-            await self._cluster.stop(run_id, submitted)
+            await self._cluster.stop(run_id, list(submitted))
             shutil.rmtree(folder, ignore_errors=True)
             self._end(job, job_pb2.FAILED, f"{type(e).__name__}: {e}")
         finally:
@@ -374,6 +382,17 @@ class JobManager:
         await running.stream.publish(whole_image_tile(job.id, pass_index, settings.width, settings.height, rgba))
         job.tiles_done += 1
         await running.stream.update(job)
+
+
+async def _store_tile(job: job_pb2.Job, layers_dir: Path, spec: TileSpec, result: job_pb2.TileResult) -> None:
+    """A full-resolution tile's layers, written by its worker or, sent back by
+    one that does not see the data folder, here; counted by the way they came."""
+    if result.shared_folder:
+        job.tiles_via_shared_folder += 1
+        return
+    layers = {layer.name: layer_array(layer) for layer in result.layers}
+    await asyncio.to_thread(layer_files.write_tile, layers_dir, spec.x, spec.y, layers)
+    job.tiles_via_network += 1
 
 
 def _no_layer(job: job_pb2.Job, name: str) -> NotFound:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import threading
 from collections import OrderedDict
+from collections.abc import Callable
 from pathlib import Path
 
 import psutil
@@ -56,9 +57,10 @@ def _evict_while_needed(keep: str) -> None:
             del _scenes[oldest]
 
 
-def get_scene(content_hash: str, path: str | Path) -> rtcore.Scene:
-    """The scene stored at `path` whose upload hashed to `content_hash`, loaded
-    once per process even when many threads ask at the same time."""
+def get_scene(content_hash: str, source: str | Path | Callable[[], rtcore.Scene]) -> rtcore.Scene:
+    """The scene whose upload hashed to `content_hash`, loaded from `source`
+    (its path, or a function that answers it) once per process even when many
+    threads ask at the same time."""
     with _lock:
         scene = _scenes.get(content_hash)
         if scene is not None:
@@ -69,7 +71,7 @@ def get_scene(content_hash: str, path: str | Path) -> rtcore.Scene:
         with _lock:
             scene = _scenes.get(content_hash)
         if scene is None:
-            scene = rtcore.Scene.load(str(path))
+            scene = source() if callable(source) else rtcore.Scene.load(str(source))
             with _lock:
                 _scenes[content_hash] = scene
                 _loading.pop(content_hash, None)

@@ -127,6 +127,15 @@ class SceneStore:
         with self._lock:
             return sorted(self._scenes.values(), key=lambda s: s.info.created_at, reverse=True)
 
+    def by_hash(self, sha256: str) -> StoredScene | None:
+        """A stored scene whose upload hashed to `sha256` (uploads of the same bytes are alike)."""
+        with self._lock:
+            return next((s for s in self._scenes.values() if s.sha256 == sha256), None)
+
+    def files_folder(self, stored: StoredScene) -> Path:
+        """The folder of the scene's own files: its upload's, as stored."""
+        return self._root / stored.info.id / "files"
+
     def delete(self, scene_id: str) -> bool:
         with self._lock:
             stored = self._scenes.pop(scene_id, None)

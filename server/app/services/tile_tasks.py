@@ -1,10 +1,13 @@
 """What a Dask worker runs: one tile of one job.
 
 Workers import this module by name, so it stays small and depends only on
-rtcore, the scene cache, the tile plan and the layer files. The arguments are
-plain values (the scene's path and content hash, the serialized request, the
-job and its run, the job's layer folder, the tile) so that any worker that
-sees the shared data folder can run any tile.
+rtcore, the scene cache, the tile plan, the layer files and the data access.
+The arguments are plain values (how to reach the job's data, the scene's path
+and content hash, the serialized request, the job and its run, the job's layer
+folder, the tile) so that any worker can run any tile: one that sees the
+server's data folder reads the scene and writes the tile's layers there, any
+other fetches the scene from the server and sends the layers back
+(services/data_access.py).
 """
 
 from __future__ import annotations
@@ -19,8 +22,10 @@ from distributed import get_worker
 from rt import job_pb2, render_pb2
 
 from . import layer_files
+from .data_access import DataAccess, sees_data_folder
 from .layer_files import layer_array, layer_message
 from .scene_cache import get_scene
+from .scene_fetch import fetch_scene
 from .tile_plan import TileSpec
 
 
@@ -60,12 +65,13 @@ def stop_run(run_id: str) -> None:
     _stop_source(run_id).request_stop()
 
 
-def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, job_id: str, run_id: str, layers_dir: str,
-                spec: TileSpec, preview: job_pb2.TileResult | None = None) -> job_pb2.TileResult | None:
+def render_tile(access: DataAccess, scene_hash: str, scene_path: str, request_bytes: bytes, job_id: str, run_id: str,
+                layers_dir: str, spec: TileSpec, preview: job_pb2.TileResult | None = None) -> job_pb2.TileResult | None:
     """Renders one tile, answered as an rt.TileResult. A full-resolution tile
-    writes its layers into the job's layer files in `layers_dir`; a preview
-    answers them, arrays of ceil(h/scale) x ceil(w/scale) pixels, for the
-    tiles that take its pixels. Either answers the tile as the stream sends it
+    writes its layers into the job's layer files in `layers_dir` when this
+    worker sees the data folder, and answers them otherwise; a preview answers
+    them, arrays of ceil(h/scale) x ceil(w/scale) pixels, for the tiles that
+    take its pixels. Either answers the tile as the stream sends it
     to viewers (a serialized rt.TileStreamMessage, its RGBA8 pixels through
     the job's exposure and tone map), made here so that the server's event
     loop only forwards it; the rays traced and camera samples taken; and when
@@ -80,7 +86,8 @@ def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, job_id: 
     worker = get_worker()
     worker.log_event(TILE_STARTED_TOPIC, worker.get_current_task())
     request = job_pb2.JobRequest.FromString(request_bytes)
-    scene = get_scene(scene_hash, scene_path)
+    shared = sees_data_folder(access)
+    scene = get_scene(scene_hash, scene_path if shared else lambda: fetch_scene(access, scene_hash))
     camera = request.camera.SerializeToString()
     settings = request.settings.SerializeToString()
     known, stride = None, 0
@@ -99,11 +106,11 @@ def render_tile(scene_hash: str, scene_path: str, request_bytes: bytes, job_id: 
     layers = {name: np.asarray(array) for name, array in layers.items()}
     tile = job_pb2.Tile(job=job_id, region=spec.region(), scale=spec.scale,
                         pixels=rtcore.encode_srgb8(layers["color"], settings).tobytes())
-    if spec.scale == 1:
+    if spec.scale == 1 and shared:
         layer_files.write_tile(layers_dir, spec.x, spec.y, layers)
     result = job_pb2.TileResult(message=job_pb2.TileStreamMessage(tile=tile).SerializeToString(), rays=rays,
-                                samples=samples, started=started)
-    if spec.scale > 1:
+                                samples=samples, started=started, shared_folder=shared)
+    if spec.scale > 1 or not shared:
         result.layers.extend(layer_message(name, array) for name, array in layers.items())
     result.seconds = time.time() - started
     return result

@@ -1,6 +1,7 @@
 """services/tile_tasks.py: a tile task answers an rt.TileResult; a preview's
 layers travel in it as arrays, and a tile that takes its preview's pixels from
-them is the tile traced in full."""
+them is the tile traced in full. A worker that does not see the data folder
+fetches the scene and answers the layers it would have written."""
 
 import json
 
@@ -10,7 +11,7 @@ import rtcore
 from rt import job_pb2
 
 from app.core.proto import normalize
-from app.services import layer_files, tile_tasks
+from app.services import data_access, layer_files, tile_tasks
 from app.services.tile_plan import TileSpec
 
 
@@ -31,6 +32,8 @@ class Worker:
 def run(monkeypatch, tmp_path, scenes_dir):
     worker = Worker()
     monkeypatch.setattr(tile_tasks, "get_worker", lambda: worker)
+    (tmp_path / "jobs").mkdir()
+    (tmp_path / data_access.FOLDER_ID_FILE).write_text("this-folder")
     scene = scenes_dir / "cornell.obj"
     request = normalize(job_pb2.JobRequest, json.dumps({
         "scene_id": "s", "camera": {"position": [0, 1, 3.5], "target": [0, 1, 0]},
@@ -38,10 +41,13 @@ def run(monkeypatch, tmp_path, scenes_dir):
         lambda _: rtcore.Scene.load(str(scene)))
     layers_dir = layer_files.create(tmp_path, 64, 64, 32, tile_tasks.aux_names(request))
 
-    def render(spec, preview=None, run_id="run"):
-        return tile_tasks.render_tile("cornell-hash", str(scene), request.SerializeToString(), "job", run_id,
+    def render(spec, preview=None, run_id="run", folder_id="this-folder"):
+        access = data_access.DataAccess(str(tmp_path), folder_id, "http://server", "secret")
+        return tile_tasks.render_tile(access, "cornell-hash", str(scene), request.SerializeToString(), "job", run_id,
                                       str(layers_dir), spec, *([preview] if preview is not None else []))
     render.worker = worker
+    render.layers_dir = layers_dir
+    render.scene = scene
     return render
 
 
@@ -82,3 +88,26 @@ def test_a_tile_taking_its_previews_pixels_is_the_tile_traced_in_full(run):
 def test_a_stopped_run_answers_none(run):
     tile_tasks.stop_run("stopped-run")
     assert run(TileSpec(1, 0, 0, 32, 32, 1, 0), run_id="stopped-run") is None
+
+
+def test_a_worker_without_the_data_folder_fetches_the_scene_and_answers_the_layers(run, monkeypatch):
+    fetched = []
+
+    def fetch_scene(access, sha256):
+        fetched.append((access.server_url, access.secret, sha256))
+        return rtcore.Scene.load(str(run.scene))
+
+    monkeypatch.setattr(tile_tasks, "fetch_scene", fetch_scene)
+    monkeypatch.setattr(tile_tasks, "get_scene", lambda sha256, source: source() if callable(source) else
+                        rtcore.Scene.load(str(source)))
+    spec = TileSpec(1, 32, 0, 32, 32, 1, 0)
+    shared = run(spec)
+    assert shared.shared_folder and not shared.layers and not fetched
+    written = {name: layer_files.load(run.layers_dir.parent, name, layer_files.PARTIAL) for name in ("color", "depth", "bvh_cost")}
+    elsewhere = run(spec, folder_id="another-folder")
+    assert fetched == [("http://server", "secret", "cornell-hash")]
+    assert not elsewhere.shared_folder and elsewhere.message == shared.message
+    assert [layer.name for layer in elsewhere.layers] == ["color", "depth", "bvh_cost"]
+    for layer in elsewhere.layers:
+        expected = written[layer.name][0:32, 32:64]
+        assert np.array_equal(tile_tasks.layer_array(layer).reshape(expected.shape), expected), layer.name
