@@ -5,11 +5,14 @@ error's message."""
 from __future__ import annotations
 
 import re
+import sqlite3
+from pathlib import Path
 
 from fastapi import FastAPI, Request
 from fastapi.responses import JSONResponse
 from starlette.exceptions import HTTPException
 
+from ..services import storage
 from ..services.errors import Conflict, Invalid, NotFound, Refused, ServiceError, TooLarge, UnsupportedType
 
 HTTP_STATUS: dict[type[ServiceError], int] = {
@@ -43,7 +46,18 @@ def allowed_methods(app: FastAPI, path: str) -> list[str]:
     return sorted(methods)
 
 
-def add_error_handlers(app: FastAPI) -> None:
+def add_error_handlers(app: FastAPI, data_dir: Path) -> None:
+    # A write into a full data folder can happen in any route that stores
+    # something (an upload, a job record, an image made when first asked for):
+    # 507 Insufficient Storage, naming it, instead of a 500.
+    async def storage_full(request: Request, exc: Exception):
+        if not storage.is_full(exc):
+            raise exc
+        return JSONResponse({"detail": storage.full_message(data_dir, exc)}, status_code=507)
+
+    app.add_exception_handler(OSError, storage_full)
+    app.add_exception_handler(sqlite3.OperationalError, storage_full)
+
     @app.exception_handler(ServiceError)
     async def service_error(request: Request, exc: ServiceError):
         return JSONResponse({"detail": str(exc)}, status_code=http_status(exc))

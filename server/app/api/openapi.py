@@ -31,6 +31,8 @@ INPUT = {"422": "A parameter or body the route cannot take; the detail names it"
 # Routes of a job's images, layers and comparisons answer 409 until it is done.
 NOT_DONE = {"409": "The job is not done: its images exist once it is"}
 UPLOAD = {"413": "The upload is over this server's limits", "415": "Not a scene file this server reads"}
+# What stores something (a state change; a job's image made when first asked for) can find the disk full.
+STORAGE = {"507": "The server's data folder is full"}
 
 
 def _errors(path: str, method: str, operation: dict[str, Any]) -> dict[str, str]:
@@ -38,13 +40,13 @@ def _errors(path: str, method: str, operation: dict[str, Any]) -> dict[str, str]
     if path.startswith("/api/"):
         wanted |= API_REQUEST
     if method.upper() in STATE_CHANGING:
-        wanted |= STATE_CHANGE
+        wanted |= STATE_CHANGE | STORAGE
     if "{" in path:
         wanted |= PATH_NAMES
     if operation.get("parameters") or operation.get("requestBody"):
         wanted |= INPUT
     if path.startswith("/api/jobs/{job_id}/") and method == "get":
-        wanted |= NOT_DONE
+        wanted |= NOT_DONE | STORAGE
     if path == "/api/scenes" and method == "post":
         wanted |= UPLOAD
     return wanted

@@ -4,8 +4,9 @@ Without RT_SCHEDULER the server embeds a local cluster whose worker threads
 live in the server process: no serialization on the way back and one scene
 cache shared with the API (rendering releases the GIL, so the threads render in
 parallel). With RT_SCHEDULER=tcp://host:8786 it joins a real cluster, whose
-workers import app.services.tile_tasks and read scenes from the shared data
-folder.
+workers import app.services.tile_tasks (and reach the job's data as
+services/data_access.py says). A joined scheduler may restart: the server keeps
+reconnecting, and sets up every scheduler it meets anew (_keep_connected).
 """
 
 from __future__ import annotations
@@ -27,6 +28,12 @@ from .tile_tasks import stop_run
 log = logging.getLogger("rt.cluster")
 
 STOP_TIMEOUT_SECONDS = 5
+# How often the server checks its scheduler connection, and how long it tries
+# to connect at each attempt.
+RECONNECT_INTERVAL_SECONDS = 1.0
+CONNECT_TIMEOUT = "5s"
+# Why Dask cancels a client's futures when the scheduler goes away.
+SCHEDULER_LOST = "scheduler-connection-lost"
 
 # The embedded cluster shares the server's event loop and cores with the API,
 # so the upkeep Dask does by default for a cluster of its own is turned down or
@@ -65,14 +72,18 @@ class RenderCluster:
         self.client = client
         self._local = local
         self._address = address  # of the scheduler joined, for a cluster not embedded
+        self._topics: dict[str, Callable] = {}
+        self._scheduler_id = ""
+        self._watch: asyncio.Task | None = None
 
     @classmethod
     async def start(cls, settings: Settings) -> "RenderCluster":
         if settings.scheduler:
-            client = await Client(settings.scheduler, asynchronous=True, timeout="20s")
-            await client.register_plugin(RenderWorkerSetup())
+            cluster = cls(await Client(settings.scheduler, asynchronous=True, timeout="20s"), None, settings.scheduler)
+            await cluster._set_up()
+            cluster._watch = asyncio.create_task(cluster._keep_connected(), name="scheduler-connection")
             log.info("joined the Dask scheduler at %s", settings.scheduler)
-            return cls(client, None, settings.scheduler)
+            return cluster
         # Read as the scheduler and worker start, so the rest of the process keeps Dask's defaults.
         with dask.config.set(EMBEDDED_DASK_CONFIG):
             local = await LocalCluster(n_workers=1, threads_per_worker=settings.embedded_threads, processes=False,
@@ -82,9 +93,46 @@ class RenderCluster:
         # The client's view of the cluster, which sizes tiles (total_threads),
         # must include the worker before the first job.
         await client.wait_for_workers(1)
-        await client.register_plugin(RenderWorkerSetup())
+        cluster = cls(client, local)
+        await cluster._set_up()
         log.info("embedded Dask cluster with %d threads", settings.embedded_threads)
-        return cls(client, local)
+        return cluster
+
+    def subscribe_topic(self, topic: str, handler: Callable) -> None:
+        """Events workers log on `topic` go to `handler`, from every scheduler joined."""
+        self._topics[topic] = handler
+        self.client.subscribe_topic(topic, handler)
+
+    async def _set_up(self) -> None:
+        """What a scheduler must know of this server: the worker plugin (which
+        it hands every worker that joins) and the topics it forwards here."""
+        await self.client.register_plugin(RenderWorkerSetup())
+        for topic, handler in self._topics.items():
+            self.client.subscribe_topic(topic, handler)
+        self._scheduler_id = self.client.scheduler_info().get("id", "")
+
+    async def _keep_connected(self) -> None:
+        """Dask's client reconnects to a scheduler that went away for its
+        timeout, then closes for good; and a restarted scheduler knows neither
+        the plugin nor the topics. So a closed client is replaced, and a
+        scheduler met for the first time is set up."""
+        while True:
+            await asyncio.sleep(RECONNECT_INTERVAL_SECONDS)
+            try:
+                if self.client.status in ("closing", "closed", "failed"):
+                    old, self.client = self.client, await Client(self._address, asynchronous=True,
+                                                                timeout=CONNECT_TIMEOUT)
+                    await old.close()
+                if self.client.status == "running" and self.client.scheduler_info().get("id") != self._scheduler_id:
+                    await self._set_up()
+                    log.info("set up the Dask scheduler at %s (%s)", self._address, self._scheduler_id)
+            except (OSError, asyncio.TimeoutError) as e:
+                log.warning("no Dask scheduler at %s yet: %r", self._address, e)
+
+    @property
+    def connected(self) -> bool:
+        """Whether the scheduler can take work now (a closed or reconnecting client cannot)."""
+        return self.client.status == "running" and bool(self._scheduler_id)
 
     def submit(self, name: str, tasks: dict[str, tuple[Callable, ...]], priorities: dict[str, int]) -> list[Future]:
         """Futures of `tasks` ({key: (function, *arguments)}), sent to the
@@ -125,6 +173,8 @@ class RenderCluster:
                               workers=workers, threads=self.total_threads() if workers else 0)
 
     async def close(self) -> None:
+        if self._watch is not None:
+            self._watch.cancel()
         await self.client.close()
         if self._local is not None:
             await self._local.close()

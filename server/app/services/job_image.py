@@ -8,7 +8,9 @@ own), so a viewer that paints every tile holds exactly image.png.
 
 from __future__ import annotations
 
+import errno
 import io
+import shutil
 import time
 from pathlib import Path
 
@@ -118,7 +120,15 @@ def output_file(folder: Path, filename: str, settings: bytes) -> Path:
     partial = folder / f"part.{filename}"
     if suffix == "exr":
         layers = {layer: np.ascontiguousarray(layer_files.load(folder, layer)) for layer in saved}
-        rtcore.write_exr(str(partial), layers.pop("color"), layers, layers.pop(layer_files.NOISY, None))
+        floats = sum(a.nbytes for a in layers.values())
+        try:
+            rtcore.write_exr(str(partial), layers.pop("color"), layers, layers.pop(layer_files.NOISY, None))
+        except RuntimeError as e:
+            partial.unlink(missing_ok=True)
+            # OpenImageIO says only that the write failed; the image needs about its floats' bytes.
+            if shutil.disk_usage(folder).free < floats:
+                raise OSError(errno.ENOSPC, "No space left on device", str(partial)) from e
+            raise
     else:
         layer = "color" if name == "image" else name
         if layer not in saved:

@@ -26,7 +26,7 @@ from rt import job_pb2, render_pb2
 
 from ..core.config import Settings
 from ..core.proto import normalize
-from . import comparisons, layer_files, references, retention
+from . import comparisons, layer_files, references, retention, storage
 from .cluster import RenderCluster
 from .data_access import DataAccess
 from .errors import Conflict, Invalid, NotFound, ServiceError
@@ -64,7 +64,7 @@ class JobManager:
         self._tiles: dict[str, tuple[RunningJob, TileSpec]] = {}  # Dask key -> its job and tile
         self._output_lock = asyncio.Lock()
         self._retention: asyncio.Task | None = None
-        cluster.client.subscribe_topic(TILE_STARTED_TOPIC, self._tile_started)
+        cluster.subscribe_topic(TILE_STARTED_TOPIC, self._tile_started)
 
     async def _tile_started(self, event: tuple[float, str]) -> None:
         found = self._tiles.get(event[1])
@@ -355,7 +355,8 @@ class JobManager:
             log.exception("job %s failed", job.id)
             await self._cluster.stop(run_id, list(submitted))
             shutil.rmtree(folder, ignore_errors=True)
-            self._end(job, job_pb2.FAILED, f"{type(e).__name__}: {e}")
+            reason = storage.full_message(self._settings.data_dir, e) if storage.is_full(e) else f"{type(e).__name__}: {e}"
+            self._end(job, job_pb2.FAILED, reason)
         finally:
             for key in futures:
                 self._tiles.pop(key, None)

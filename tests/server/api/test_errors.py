@@ -2,6 +2,8 @@
 answers, and services that never speak HTTP themselves."""
 
 import ast
+import errno
+import sqlite3
 from pathlib import Path
 
 import pytest
@@ -25,9 +27,9 @@ SERVICES = Path(__file__).resolve().parents[3] / "server" / "app" / "services"
     (UploadTypeRefused("'.txt' files are not accepted"), 415),
     (errors.ServiceError("a kind without a status"), 500),
 ])
-def test_each_kind_is_answered_with_its_status_and_its_message(error, status):
+def test_each_kind_is_answered_with_its_status_and_its_message(error, status, tmp_path):
     app = FastAPI()
-    add_error_handlers(app)
+    add_error_handlers(app, tmp_path)
 
     @app.get("/fail")
     def fail():
@@ -36,6 +38,27 @@ def test_each_kind_is_answered_with_its_status_and_its_message(error, status):
     response = TestClient(app, raise_server_exceptions=False).get("/fail")
     assert (response.status_code, response.json()) == (status, {"detail": str(error)})
     assert http_status(error) == status
+
+
+@pytest.mark.parametrize("error, status", [
+    (OSError(errno.ENOSPC, "No space left on device"), 507),
+    (OSError(errno.EDQUOT, "Disk quota exceeded"), 507),
+    (sqlite3.OperationalError("database or disk is full"), 507),
+    (OSError(errno.EACCES, "Permission denied"), 500),
+    (sqlite3.OperationalError("database is locked"), 500),
+])
+def test_a_full_disk_anywhere_is_a_507_naming_it_and_other_failures_stay_500s(error, status, tmp_path):
+    app = FastAPI()
+    add_error_handlers(app, tmp_path)
+
+    @app.get("/fail")
+    def fail():
+        raise error
+
+    response = TestClient(app, raise_server_exceptions=False).get("/fail")
+    assert response.status_code == status
+    if status == 507:
+        assert "data folder is full" in response.json()["detail"]
 
 
 def test_upload_refusals_are_upload_errors_of_their_kind():
