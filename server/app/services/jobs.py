@@ -146,6 +146,7 @@ class JobManager:
         self._finished_streams.pop(job_id, None)
         async with self._output_lock:  # not while one of its images is being made
             await asyncio.to_thread(shutil.rmtree, self.folder(job_id), True)
+        storage.forget_size(self._settings.data_dir)
 
     def pin(self, job: job_pb2.Job, pinned: bool) -> job_pb2.Job:
         """Keeps a job (as get() answers it: a running one's live record) whatever
@@ -168,6 +169,7 @@ class JobManager:
         for job_id in [j for j, r in self._running.items() if r.record.request.scene_id == scene_id]:
             await self.cancel(job_id, "the scene was deleted")
         self._scenes.delete(scene_id)
+        storage.forget_size(self._settings.data_dir)
 
     def stream(self, job_id: str) -> TileStream | None:
         running = self._running.get(job_id)

@@ -4,9 +4,12 @@ and what a write into a full one raises."""
 from __future__ import annotations
 
 import errno
+import math
 import os
 import shutil
 import sqlite3
+import threading
+import time
 from pathlib import Path
 
 # A full disk, or the user's or the filesystem's quota reached.
@@ -34,9 +37,32 @@ def folder_bytes(folder: Path) -> int:
     return total
 
 
+# Walking the data folder takes time that grows with its files (tens of ms
+# with a few thousand jobs), and monitors ask /api/health often: its size is
+# walked again at most this often, or at once after a deletion (forget_size),
+# where users look for the room they made; free space, which costs one
+# statvfs, is always fresh.
+SIZE_MAX_AGE_SECONDS = 10.0
+_sizes: dict[Path, tuple[float, int]] = {}
+_walking = threading.Lock()
+
+
+def forget_size(data_dir: Path) -> None:
+    _sizes.pop(data_dir, None)
+
+
 def usage(data_dir: Path) -> tuple[int, int]:
-    """(bytes the data folder takes on disk, bytes free on its disk)."""
-    return folder_bytes(data_dir), shutil.disk_usage(data_dir).free
+    """(bytes the data folder takes on disk, as walked in the last
+    SIZE_MAX_AGE_SECONDS; bytes free on its disk). One caller walks at a time;
+    the others meanwhile take the last size."""
+    walked, size = _sizes.get(data_dir, (-math.inf, 0))
+    if time.monotonic() - walked > SIZE_MAX_AGE_SECONDS and _walking.acquire(blocking=data_dir not in _sizes):
+        try:
+            size = folder_bytes(data_dir)
+            _sizes[data_dir] = (time.monotonic(), size)
+        finally:
+            _walking.release()
+    return size, shutil.disk_usage(data_dir).free
 
 
 def is_full(error: BaseException) -> bool:
