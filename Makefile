@@ -25,7 +25,7 @@ BENCH_FUZZ_SECONDS ?= 300
 # Requests schemathesis makes per API operation and phase: in `make test` (15), and in `make bench`.
 BENCH_API_EXAMPLES ?= 300
 
-.PHONY: help deps venv build build-asan build-fuzz samples web test test-cpp test-asan fuzz test-py test-web run bench charts clean
+.PHONY: help deps venv build build-asan build-fuzz samples web test test-cpp test-asan fuzz test-py test-web run bench chaos charts clean
 
 help:
 	@echo "make run    serve the app on http://127.0.0.1:8000 (HOST, PORT override)"
@@ -33,6 +33,7 @@ help:
 	@echo "make build  build the renderer, rtrender and rtcore"
 	@echo "make bench  benchmarks: BVH against Embree, the 2020 report's performance table, the service against rtrender"
 	@echo "make fuzz   the loaders' libFuzzer targets, FUZZ_SECONDS each (crashes kept in build/fuzz/crashes)"
+	@echo "make chaos  worker kills and a scheduler restart during batches, in the multi-process topology (~4 min)"
 	@echo "make charts speed against accuracy, stability and scaling charts into docs/charts (on a quiet machine)"
 
 # apt packages, installed only when missing.
@@ -138,6 +139,13 @@ bench: build samples
 	$(PY) tests/bench/compressed_load_bench.py --scenes $(SCENES) --out $(BUILD)/bench
 	$(MAKE) --no-print-directory fuzz FUZZ_SECONDS=$(BENCH_FUZZ_SECONDS)
 	RT_FUZZ_EXAMPLES=$(BENCH_API_EXAMPLES) $(PY) -m pytest -q tests/server/test_api_contract.py -k schemathesis
+	$(PY) tests/bench/load_bench.py --scenes $(SCENES) --clients 50 --jobs 20
+
+# Chaos in the real multi-process topology (tests/chaos/chaos_cluster.py): 10
+# worker kills during a batch of 20 jobs, with and without a shared data folder,
+# and a scheduler restart mid-batch; prints its figures. RT_CHAOS_SEED replays one.
+chaos: build samples
+	$(PY) -m pytest -q -s tests/chaos/chaos_cluster.py
 
 # The charts under docs/charts (PNG, CSV and Markdown each, an index.json the
 # viewer's /charts page reads, and README.md): error against render time for each

@@ -48,7 +48,7 @@ class Topology:
     a volume of its own at the same path, and in a folder of its own as its
     working directory and home."""
 
-    def __init__(self, data_dir: Path, logs: Path, shared_folder: bool = True):
+    def __init__(self, data_dir: Path, logs: Path, shared_folder: bool = True, workers: int = 2):
         self.scheduler_port = free_port()
         self.port = free_port()
         self.data_dir = data_dir
@@ -57,20 +57,22 @@ class Topology:
                     "HOST": "127.0.0.1", "PORT": str(self.port), "RT_WEB_DIR": str(data_dir / "no-viewer")}
         self.logs = logs
         self.shared_folder = shared_folder
+        self.worker_count = workers
         self.worker_home: Path | None = None
         self.workers: list[subprocess.Popen] = []
         self.processes: list[subprocess.Popen] = []
 
     def spawn(self, name: str, *args: str, env: dict | None = None, cwd: Path = ROOT) -> subprocess.Popen:
-        log = open(self.logs / f"{name}.log", "wb")
+        log = open(self.logs / f"{name}.log", "ab")
         process = subprocess.Popen(args, env=env or self.env, stdout=log, stderr=subprocess.STDOUT, cwd=cwd,
                                    start_new_session=True)
         self.processes.append(process)
         return process
 
     def spawn_worker(self, i: int) -> subprocess.Popen:
+        """Worker `i`, or a new one in its place (its log goes on in the same file)."""
         command = [str(VENV_BIN / "dask"), "worker", self.env["RT_SCHEDULER"], "--nthreads", "1", "--no-nanny",
-                   "--name", f"w{i}", "--dashboard-address", ":0"]
+                   "--name", f"w{i}-{time.monotonic_ns()}", "--dashboard-address", ":0"]
         if self.shared_folder:
             return self.spawn(f"worker{i}", *command)
         home = self.worker_home
@@ -82,11 +84,15 @@ class Topology:
     def start(self, client: httpx.Client) -> None:
         if not self.shared_folder:
             self.worker_home = Path(tempfile.mkdtemp(prefix="rt-worker-"))
-        self.spawn("scheduler", str(VENV_BIN / "dask"), "scheduler", "--host", "127.0.0.1",
-                   "--port", str(self.scheduler_port), "--dashboard-address", ":0", "--no-show")
-        self.workers = [self.spawn_worker(i) for i in range(2)]
+        self.scheduler = self.spawn_scheduler()
+        self.workers = [self.spawn_worker(i) for i in range(self.worker_count)]
         self.spawn("server", sys.executable, "-m", "app")
-        wait_until(lambda: client.get("/api/health").json()["workers"] == 2, 60, "the server and two workers")
+        wait_until(lambda: client.get("/api/health").json()["workers"] == self.worker_count, 60,
+                   "the server and its workers")
+
+    def spawn_scheduler(self) -> subprocess.Popen:
+        return self.spawn("scheduler", str(VENV_BIN / "dask"), "scheduler", "--host", "127.0.0.1",
+                          "--port", str(self.scheduler_port), "--dashboard-address", ":0", "--no-show")
 
     def stop(self) -> None:
         for process in self.processes:
@@ -101,9 +107,9 @@ class Topology:
             shutil.rmtree(self.worker_home, ignore_errors=True)
 
 
-def started(tmp_path_factory, shared_folder: bool):
+def started(tmp_path_factory, shared_folder: bool, workers: int = 2):
     """A started topology and a client of its server, stopped when the generator ends."""
-    topology = Topology(tmp_path_factory.mktemp("data"), tmp_path_factory.mktemp("logs"), shared_folder)
+    topology = Topology(tmp_path_factory.mktemp("data"), tmp_path_factory.mktemp("logs"), shared_folder, workers)
     client = httpx.Client(base_url=f"http://127.0.0.1:{topology.port}", timeout=30)
     try:
         topology.start(client)

@@ -19,6 +19,7 @@ import dask
 import rtcore
 from dask.highlevelgraph import HighLevelGraph, MaterializedLayer
 from distributed import Client, Future, LocalCluster, WorkerPlugin
+from distributed.client import FutureCancelledError
 from rt import job_pb2
 
 from ..core.allocator import keep_freed_memory
@@ -133,6 +134,18 @@ class RenderCluster:
     def connected(self) -> bool:
         """Whether the scheduler can take work now (a closed or reconnecting client cannot)."""
         return self.client.status == "running" and bool(self._scheduler_id)
+
+    def lost(self, error: BaseException) -> bool:
+        """Whether a run failed because its scheduler went away (its futures
+        cancelled by Dask for it, or no scheduler to send them to), rather
+        than because of the job itself."""
+        if isinstance(error, FutureCancelledError):
+            return error.reason in (SCHEDULER_LOST, "scheduler-restart")
+        return not self.connected
+
+    async def wait_connected(self) -> None:
+        while not self.connected:
+            await asyncio.sleep(RECONNECT_INTERVAL_SECONDS / 4)
 
     def submit(self, name: str, tasks: dict[str, tuple[Callable, ...]], priorities: dict[str, int]) -> list[Future]:
         """Futures of `tasks` ({key: (function, *arguments)}), sent to the

@@ -41,6 +41,11 @@ from .tile_tasks import TILE_STARTED_TOPIC, aux_names, render_tile
 log = logging.getLogger("rt.jobs")
 
 FINAL_STATES = (job_pb2.DONE, job_pb2.FAILED, job_pb2.CANCELLED)
+# Runs of one job its cluster may lose (the scheduler went away) before it fails.
+MAX_RUNS = 3
+# What a new run starts without: the progress of the run lost.
+RUN_FIELDS = ("progress", "tiles_done", "tiles_total", "passes", "started_at", "render_seconds", "rays",
+              "mean_samples_per_pixel", "denoise_seconds", "tiles_via_shared_folder", "tiles_via_network", "error")
 
 
 @dataclass
@@ -49,6 +54,7 @@ class RunningJob:
     scene: StoredScene
     stream: TileStream = field(default_factory=TileStream)
     task: asyncio.Task | None = None
+    runs: int = 0
 
 
 class JobManager:
@@ -108,7 +114,7 @@ class JobManager:
     def start(self, job: job_pb2.Job, stored: StoredScene) -> None:
         running = RunningJob(job, stored)
         self._running[job.id] = running
-        running.task = asyncio.create_task(self._run(running), name=f"job-{job.id}")
+        running.task = asyncio.create_task(self._run_when_connected(running), name=f"job-{job.id}")
 
     def get(self, job_id: str) -> job_pb2.Job | None:
         running = self._running.get(job_id)
@@ -289,6 +295,8 @@ class JobManager:
 
     async def _run(self, running: RunningJob) -> None:
         job = running.record
+        running.runs += 1
+        lost = False
         request = job.request
         passes = plan_passes(request.settings.width, request.settings.height, self._cluster.total_threads(),
                              request.interactive, rays_per_pixel(request.settings, running.scene.info.lights))
@@ -354,24 +362,62 @@ class JobManager:
                 shutil.rmtree(folder, ignore_errors=True)
                 self._end(job, job_pb2.CANCELLED, "cancelled by request")
         except Exception as e:  # a tile failed (or its files could not be made): the job fails with the reason
-            log.exception("job %s failed", job.id)
+            lost = self._cluster.lost(e)
+            log.log(logging.WARNING if lost else logging.ERROR, "job %s failed", job.id, exc_info=not lost)
             await self._cluster.stop(run_id, list(submitted))
             shutil.rmtree(folder, ignore_errors=True)
-            reason = storage.full_message(self._settings.data_dir, e) if storage.is_full(e) else f"{type(e).__name__}: {e}"
-            self._end(job, job_pb2.FAILED, reason)
+            if lost and running.runs >= MAX_RUNS:
+                self._end(job, job_pb2.FAILED, f"its cluster lost its Dask scheduler {running.runs} times: {e}")
+            elif not lost:
+                reason = storage.full_message(self._settings.data_dir, e) if storage.is_full(e) \
+                    else f"{type(e).__name__}: {e}"
+                self._end(job, job_pb2.FAILED, reason)
         finally:
             for key in futures:
                 self._tiles.pop(key, None)
-            self._running.pop(job.id, None)
-            if not shutdown:
-                await running.stream.finish(job)
-                self._finished_streams[job.id] = running.stream
-                while len(self._finished_streams) > self._settings.kept_streams:
-                    self._finished_streams.popitem(last=False)
-                try:
-                    await self.apply_retention()
-                except Exception:
-                    log.exception("retention failed after job %s", job.id)
+            if lost and running.runs < MAX_RUNS:
+                await self._requeue(running)
+            elif not shutdown:
+                await self._finish(running)
+            else:
+                self._running.pop(job.id, None)
+
+    async def _requeue(self, running: RunningJob) -> None:
+        """A run its cluster lost starts again from scratch, as a restart of
+        the server would resume it, once a scheduler is there to take it."""
+        job = running.record
+        for name in RUN_FIELDS:
+            job.ClearField(name)
+        job.state = job_pb2.QUEUED
+        self._store.save(job)
+        await running.stream.update(job)
+        log.warning("job %s: its cluster lost the run; run %d starts once a scheduler is back", job.id, running.runs + 1)
+        running.task = asyncio.create_task(self._run_when_connected(running), name=f"job-{job.id}")
+
+    async def _run_when_connected(self, running: RunningJob) -> None:
+        try:
+            await self._cluster.wait_connected()
+        except asyncio.CancelledError as e:
+            if "shutdown" in e.args:  # left queued in the store, resumed at the next start
+                self._running.pop(running.record.id, None)
+            else:
+                self._end(running.record, job_pb2.CANCELLED, "cancelled by request")
+                await self._finish(running)
+            raise
+        await self._run(running)
+
+    async def _finish(self, running: RunningJob) -> None:
+        """A job that has ended: its stream ends and is kept for late viewers; the retention policy applies."""
+        job = running.record
+        self._running.pop(job.id, None)
+        await running.stream.finish(job)
+        self._finished_streams[job.id] = running.stream
+        while len(self._finished_streams) > self._settings.kept_streams:
+            self._finished_streams.popitem(last=False)
+        try:
+            await self.apply_retention()
+        except Exception:
+            log.exception("retention failed after job %s", job.id)
 
 
     @staticmethod

@@ -67,3 +67,34 @@ def test_deleting_a_scene_cancels_its_running_jobs_first(client, scenes_dir):
     ended = client.get(f"/api/jobs/{job['id']}").json()
     assert (ended["state"], ended["error"]) == ("CANCELLED", "the scene was deleted")
     assert client.get(f"/api/scenes/{scene_id}").status_code == 404
+
+
+def _lose_the_scheduler():
+    from distributed.client import FutureCancelledError
+
+    raise FutureCancelledError("tile", "scheduler-connection-lost")
+
+
+@pytest.mark.parametrize("losses, state", [(1, "DONE"), (3, "FAILED")])
+def test_a_run_its_cluster_lost_runs_again_up_to_three_times(tmp_path, cornell_zip, monkeypatch, losses, state):
+    """Dask cancels every future when the scheduler goes away: the job runs
+    again from scratch once one is back, and fails after its third lost run."""
+    with TestClient(create_app(service_settings(tmp_path))) as client:
+        cluster = client.app.state.cluster
+        submit, runs = cluster.submit, []
+
+        def losing_submit(name, tasks, priorities):
+            runs.append(name)
+            if len(runs) <= losses:
+                tasks = {key: (_lose_the_scheduler,) for key in tasks}
+            return submit(name, tasks, priorities)
+
+        monkeypatch.setattr(cluster, "submit", losing_submit)
+        scene_id = client.post("/api/scenes", files={"file": ("cornell.zip", cornell_zip)}).json()["id"]
+        job = wait_for(client, client.post("/api/jobs", json={"scene_id": scene_id, "settings": {
+            "width": 64, "height": 48}}).json()["id"])
+    assert job["state"] == state and len(runs) == min(losses + 1, 3)
+    if state == "DONE":
+        assert job["tiles_done"] == job["tiles_total"] and not job.get("error")
+    else:
+        assert "lost its Dask scheduler 3 times" in job["error"]
