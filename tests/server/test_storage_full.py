@@ -5,12 +5,14 @@ there is room."""
 
 import hashlib
 import os
+import sqlite3
 import subprocess
 import time
 from pathlib import Path
 
 import pytest
 from fastapi.testclient import TestClient
+from rt import job_pb2
 
 from app.main import create_app
 from service import service_settings
@@ -111,3 +113,27 @@ def test_a_job_whose_tiles_find_no_room_fails_saying_so(client, disk, scenes_dir
         assert client.get("/api/health").status_code == 200
     finally:
         filler.unlink()
+
+
+def test_a_job_that_ends_when_its_record_finds_no_room_is_still_seen_ended(client, monkeypatch):
+    """SQLite refuses the final record: the job is answered as ended from
+    memory, never left running for everyone to wait on, and saved later."""
+    scene = client.get("/api/scenes").json()["scenes"][0]["id"]
+    store = client.app.state.jobs._store
+    save = store.save
+
+    def save_but_not_the_end(job):
+        if job.state in (job_pb2.DONE, job_pb2.FAILED, job_pb2.CANCELLED):
+            raise sqlite3.OperationalError("database or disk is full")
+        save(job)
+
+    monkeypatch.setattr(store, "save", save_but_not_the_end)
+    job = wait_end(client, client.post("/api/jobs", json={"scene_id": scene, "settings": {
+        "width": 64, "height": 48}}).json()["id"])
+    assert job["state"] == "DONE"
+    assert store.get(job["id"]).state in (job_pb2.QUEUED, job_pb2.RUNNING), "the store still holds it running"
+    assert [j["state"] for j in client.get("/api/jobs").json()["jobs"] if j["id"] == job["id"]] == ["DONE"]
+    monkeypatch.setattr(store, "save", save)
+    wait_end(client, client.post("/api/jobs", json={"scene_id": scene, "settings": {
+        "width": 64, "height": 48}}).json()["id"])  # its end saves the one kept in memory
+    assert store.get(job["id"]).state == job_pb2.DONE

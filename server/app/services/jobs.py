@@ -66,6 +66,7 @@ class JobManager:
         self._scenes = scenes
         self._store = store
         self._running: dict[str, RunningJob] = {}
+        self._unsaved: dict[str, job_pb2.Job] = {}  # ended, not saved for want of room (_save_ended)
         self._finished_streams: OrderedDict[str, TileStream] = OrderedDict()
         self._tiles: dict[str, tuple[RunningJob, TileSpec]] = {}  # Dask key -> its job and tile
         self._output_lock = asyncio.Lock()
@@ -118,11 +119,12 @@ class JobManager:
 
     def get(self, job_id: str) -> job_pb2.Job | None:
         running = self._running.get(job_id)
-        return running.record if running else self._store.get(job_id)
+        return running.record if running else self._unsaved.get(job_id) or self._store.get(job_id)
 
     def page(self, offset: int, limit: int) -> tuple[list[job_pb2.Job], int]:
         jobs, total = self._store.page(offset, limit)
-        return [self._running[j.id].record if j.id in self._running else j for j in jobs], total
+        return [self._running[j.id].record if j.id in self._running else self._unsaved.get(j.id, j)
+                for j in jobs], total
 
     async def cancel(self, job_id: str, reason: str = "cancelled by request") -> job_pb2.Job | None:
         running = self._running.get(job_id)
@@ -162,7 +164,10 @@ class JobManager:
         return job
 
     async def apply_retention(self) -> None:
-        """Removes the jobs the retention policy lets go (services/retention.py)."""
+        """Removes the jobs the retention policy lets go (services/retention.py),
+        after saving the records a full disk kept in memory."""
+        for job in list(self._unsaved.values()):
+            self._save_ended(job)
         gone = await asyncio.to_thread(retention.expired, self._settings, self._store, self._scenes, time.time())
         for job_id in gone:
             if job_id not in self._running:  # none is, unless one was resumed meanwhile
@@ -282,7 +287,22 @@ class JobManager:
         if error and not job.error:
             job.error = error
         job.finished_at = time.time()
-        self._store.save(job)
+        self._save_ended(job)
+
+    def _save_ended(self, job: job_pb2.Job) -> None:
+        """Saves a job that has ended. A full disk must not leave it queued or
+        running in the store for everyone to wait on: its record is answered
+        from memory meanwhile, and saved at the next job's end or retention
+        pass with room (a restart before that runs it again)."""
+        try:
+            self._store.save(job)
+            self._unsaved.pop(job.id, None)
+        except Exception as e:
+            if not storage.is_full(e):
+                raise
+            log.error("job %s ended %s, but the data folder is full to record it: %s", job.id,
+                      job_pb2.JobState.Name(job.state), e)
+            self._unsaved[job.id] = job
 
     def _mark_reference(self, job: job_pb2.Job) -> None:
         """A done "Render reference" job becomes its view's reference, unless its scene went meanwhile."""
