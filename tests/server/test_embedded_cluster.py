@@ -16,6 +16,19 @@ def test_tiles_are_planned_for_the_embedded_workers_threads_from_the_start(clien
     assert client.app.state.cluster.total_threads() == client.app.state.settings.embedded_threads == 2
 
 
+def test_jobs_plan_for_every_thread_of_the_cluster_on_the_event_loop(client):
+    """JobManager._run asks on the event loop, where Dask's client answers its
+    cache, whose per-worker part is empty (summing it gave 1 thread)."""
+    import time
+
+    cluster = client.app.state.cluster
+    time.sleep(2.5)  # past a refresh of the client's cache
+    assert client.portal.call(cluster.total_threads) == 2
+    assert client.portal.call(cluster.worker_count) == 1
+    health = client.get("/api/health").json()
+    assert (health["workers"], health["threads"]) == (1, 2)
+
+
 def test_tiles_render_on_as_many_threads_as_the_worker_has(client):
     """RenderWorkerSetup sizes rtcore's render pool to the worker, and keeps freed memory for reuse."""
     import numpy as np

@@ -171,12 +171,16 @@ class RenderCluster:
     def embedded(self) -> bool:
         return self._local is not None
 
+    # The scheduler's own totals, which the client refreshes every few seconds.
+    # On the event loop scheduler_info() answers that cache without I/O, and
+    # its per-worker part is empty: summing the workers' threads there gave 1
+    # and planned every job's tiles for one thread. (From another thread it
+    # asks the scheduler, through the busy event loop.)
     def total_threads(self) -> int:
-        workers = self.client.scheduler_info().get("workers", {})
-        return sum(w.get("nthreads", 1) for w in workers.values()) or 1
+        return self.client.scheduler_info().get("total_threads", 0) or 1
 
     def worker_count(self) -> int:
-        return len(self.client.scheduler_info().get("workers", {}))
+        return self.client.scheduler_info().get("n_workers", 0)
 
     def health(self) -> job_pb2.Health:
         """Whether the cluster can take work: "degraded" without a worker."""

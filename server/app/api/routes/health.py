@@ -3,6 +3,8 @@ full its data folder is."""
 
 from __future__ import annotations
 
+import asyncio
+
 from fastapi import APIRouter, Request
 from rt import job_pb2
 
@@ -15,10 +17,10 @@ router = APIRouter(prefix="/api", tags=["health"])
 
 @router.get("/health", responses={200: json_response(job_pb2.Health,
                                                      "The cluster's workers and threads; the data folder's use")})
-def health(request: Request):
-    # A plain def: FastAPI runs it on its thread pool, where the Dask client's
-    # blocking scheduler_info() works (called on the event loop it saw no
-    # workers) and walking the data folder holds up nothing else.
+async def health(request: Request):
+    # On the event loop, where the cluster's totals are the client's cache (no
+    # round trip to the scheduler through the loop under load); the data
+    # folder's size, which may be walked, on a thread.
     answer = request.app.state.cluster.health()
-    answer.data_bytes, answer.free_bytes = storage.usage(request.app.state.settings.data_dir)
+    answer.data_bytes, answer.free_bytes = await asyncio.to_thread(storage.usage, request.app.state.settings.data_dir)
     return proto_json(answer)
