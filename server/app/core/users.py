@@ -66,6 +66,9 @@ def _check(entries: list[tuple[str, str, str]]) -> tuple[User, ...]:
         if not NAME.fullmatch(name):
             raise SystemExit(f"{where}: the user name is not 1-64 letters, digits, '.', '_' or '-' "
                              "(starting with a letter or digit)")
+        if name.lower() == LOCAL_NAME:
+            raise SystemExit(f"{where}: {LOCAL_NAME!r} is the name of a server's one user without named users: "
+                             "choose another")
         if len(token) < MIN_TOKEN_CHARS or any(c.isspace() or not c.isprintable() for c in token):
             raise SystemExit(f"{where}: user {name!r}'s token is shorter than {MIN_TOKEN_CHARS} characters or "
                              "holds spaces or control characters (make one with `openssl rand -hex 24`)")
