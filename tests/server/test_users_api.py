@@ -168,6 +168,7 @@ def test_users_come_from_the_environment_and_a_file(monkeypatch, tmp_path):
     ({"RT_USERS": "alice:short"}, "shorter than 16 characters"),
     ({"RT_USERS": "al ice:alice-token-0123456789"}, "the user name is not"),
     ({"RT_USERS_FILE": "/no/such/file"}, "cannot read it"),
+    ({"RT_USERS": "Local:local-token-0123456789"}, "one user without named users"),
     ({"RT_USERS": "alice:alice-token-0123456789", "RT_API_TOKEN": "x"}, "RT_API_TOKEN"),
 ])
 def test_a_bad_users_setting_stops_the_server_naming_it(environ, problem):
