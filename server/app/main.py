@@ -14,7 +14,7 @@ from fastapi.staticfiles import StaticFiles
 from .api.errors import add_error_handlers
 from .api.guards import RequestGuards
 from .api.openapi import build_schema
-from .api.routes import cluster, comparisons, health, jobs, references, scenes
+from .api.routes import cluster, comparisons, health, jobs, references, scenes, users
 from .core.allocator import keep_freed_memory
 from .core.config import Settings, load_settings
 from .core.security import keep_tokens_out_of_logs
@@ -41,6 +41,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         if settings.samples_dir and settings.samples_dir.is_dir():
             added = await asyncio.to_thread(app.state.scenes.import_samples, settings.samples_dir)
             log.info("added %d sample scenes from %s", added, settings.samples_dir)
+        if settings.users:  # their names, never their tokens
+            log.info("%d named users: %s", len(settings.users), ", ".join(u.name for u in settings.users))
         app.state.cluster = await RenderCluster.start(settings)
         app.state.jobs = JobManager(settings, app.state.cluster, app.state.scenes, JobStore(settings.database),
                                     app.state.data_access)
@@ -52,7 +54,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             await app.state.cluster.close()
 
     app = FastAPI(title="rt", summary="Ray tracing render service", lifespan=lifespan)
-    for router in (health.router, scenes.router, jobs.router, comparisons.router, references.router, cluster.router):
+    for router in (health.router, users.router, scenes.router, jobs.router, comparisons.router, references.router,
+                   cluster.router):
         app.include_router(router)
 
     app.add_middleware(RequestGuards, settings=settings)

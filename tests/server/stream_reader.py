@@ -36,11 +36,11 @@ def assemble(messages, width: int, height: int) -> np.ndarray:
     return canvas
 
 
-def wait_for(client, job_id: str, timeout: float = 60) -> dict:
-    """The job's record once it has ended."""
+def wait_for(client, job_id: str, timeout: float = 60, headers: dict | None = None) -> dict:
+    """The job's record once it has ended (`headers`: a named user's token)."""
     deadline = time.monotonic() + timeout
     while True:
-        job = client.get(f"/api/jobs/{job_id}").json()
+        job = client.get(f"/api/jobs/{job_id}", headers=headers).json()
         if job["state"] in ("DONE", "FAILED", "CANCELLED"):
             return job
         assert time.monotonic() < deadline, f"job {job_id} still {job['state']}"

@@ -35,8 +35,10 @@ async function waitForHealth(url, child, log, timeoutMs, headers) {
   throw new Error(`the server did not answer /api/health within ${timeoutMs / 1000} s; see ${log}`);
 }
 
-// token: start it with RT_API_TOKEN; samples: false starts it without the sample scenes.
-export async function startServer({ artifacts, timeoutMs = 90_000, token = "", samples: withSamples = true, name = "server" } = {}) {
+// token: start it with RT_API_TOKEN; samples: false starts it without the sample scenes;
+// env: more of its environment (RT_USERS, quotas); healthToken: the token its health check sends.
+export async function startServer({ artifacts, timeoutMs = 90_000, token = "", samples: withSamples = true, name = "server",
+  env = {}, healthToken = token } = {}) {
   // RT_WEB_TEST_URL: test a server that is already running (left as it is after).
   if (process.env.RT_WEB_TEST_URL) {
     const url = process.env.RT_WEB_TEST_URL.replace(/\/$/, "");
@@ -65,6 +67,7 @@ export async function startServer({ artifacts, timeoutMs = 90_000, token = "", s
       RT_SAMPLES_DIR: withSamples ? samples : "",
       RT_WEB_DIR: web,
       RT_API_TOKEN: token,
+      ...env,
     },
     stdio: ["ignore", "pipe", "pipe"],
   });
@@ -82,7 +85,7 @@ export async function startServer({ artifacts, timeoutMs = 90_000, token = "", s
     rmSync(dataDir, { recursive: true, force: true });
   };
   try {
-    const health = await waitForHealth(url, child, log, timeoutMs, token ? { Authorization: `Bearer ${token}` } : {});
+    const health = await waitForHealth(url, child, log, timeoutMs, healthToken ? { Authorization: `Bearer ${healthToken}` } : {});
     return { url, port, dataDir, health, stop, log };
   } catch (e) {
     await stop();

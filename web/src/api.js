@@ -23,6 +23,15 @@ function askForToken(message) {
   return true;
 }
 
+/** Whether this browser holds a token for the server. */
+export const hasToken = () => Boolean(token);
+
+/** Forgets the token (signing out): the next refused request asks for one again. */
+export function forgetToken() {
+  token = "";
+  localStorage.removeItem(TOKEN_KEY);
+}
+
 export class ApiError extends Error {
   constructor(message, status) {
     super(message);
@@ -220,6 +229,11 @@ export async function debugRay(sceneId, camera, settings, pixel) {
 export async function bvhBoxes(sceneId, level, tree = "top") {
   const query = `${level < 0 ? "leaves=1" : `level=${level}`}&tree=${encodeURIComponent(tree)}`;
   return parseJson("BvhBoxes", await request("GET", `/api/scenes/${encodeURIComponent(sceneId)}/bvh?${query}`));
+}
+
+/** Who the token belongs to, and their use against the quotas (rt.UserInfo). */
+export async function me() {
+  return parseJson("UserInfo", await request("GET", "/api/me"));
 }
 
 export async function health() {

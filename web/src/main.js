@@ -16,6 +16,7 @@ import { SettingsPanel } from "./settings-panel.js";
 import { ShutterPose } from "./shutter-pose.js";
 import { ImageOverlay, RunningTiles } from "./tile-outlines.js";
 import { TileView } from "./tiles.js";
+import { UserBadge } from "./user-badge.js";
 import { ViewSwitch } from "./view-switch.js";
 import { Viewer } from "./viewer.js";
 import { Wipe } from "./wipe.js";
@@ -47,6 +48,7 @@ views.addEventListener("change", (e) => {
 const router = new Router();
 const cameraSelect = $("scene-camera");
 const shutter = new ShutterPose(document, viewer);
+const user = new UserBadge(document);
 
 const state = { scene: null, job: null, running: null, sceneLoad: null };
 
@@ -122,8 +124,12 @@ async function selectScene(id, camera = null) {
   return info;
 }
 
-scenes.addEventListener("select", (e) => selectScene(e.detail));
+scenes.addEventListener("select", (e) => {
+  selectScene(e.detail);
+  user.refresh(); // after an upload, its bytes
+});
 scenes.addEventListener("deleted", (e) => {
+  user.refresh();
   if (state.scene?.id !== e.detail) return;
   state.scene = null;
   viewer.clearScene();
@@ -214,6 +220,7 @@ async function openJob(id) {
   state.running = new RunningTiles();
   tiles.open(job.id, width, height); // its records come to `follower`
   jobPanel.refreshHistory();
+  user.refresh(); // one more queued
 }
 
 tiles.addEventListener("started", (e) => {
@@ -230,16 +237,21 @@ follower.addEventListener("end", (e) => {
   overlay.setRunning([]);
   showJob(e.detail);
   jobPanel.refreshHistory();
+  user.refresh(); // its files stored, one fewer queued
 });
 tiles.addEventListener("streamerror", (e) => {
   $("job-error").hidden = false;
   $("job-error").textContent = `Tile stream: ${e.detail}`;
 });
 jobPanel.addEventListener("open", (e) => router.go(e.detail));
-jobPanel.addEventListener("cancelled", () => jobPanel.refreshHistory());
+jobPanel.addEventListener("cancelled", () => {
+  jobPanel.refreshHistory();
+  user.refresh();
+});
 jobPanel.addEventListener("deleted", (e) => {
   if (state.job?.id === e.detail) router.go(null); // the open job is gone
   jobPanel.refreshHistory();
+  user.refresh();
 });
 layers.addEventListener("error", (e) => {
   $("job-error").hidden = false;
@@ -263,6 +275,8 @@ async function start() {
     $("server-status").textContent = `server unreachable: ${e.message}`;
     $("server-status").dataset.kind = "error";
   }
+  await user.refresh();
+  scenes.sharedReadOnly = user.named;
   const list = await scenes.refresh();
   jobPanel.refreshHistory();
   if (router.jobId) {
@@ -276,6 +290,6 @@ async function start() {
 
 // For the console and the browser tests: the live objects, read-only by convention.
 window.rt = {
-  viewer, settings, projection, shutter, scenes, jobPanel, tiles, follower, overlay, layers, debug, image, views, wipe, reference, router, state,
+  viewer, settings, projection, shutter, user, scenes, jobPanel, tiles, follower, overlay, layers, debug, image, views, wipe, reference, router, state,
 };
 start();

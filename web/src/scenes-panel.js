@@ -16,6 +16,7 @@ export class ScenesPanel extends EventTarget {
     this.list = root.querySelector("#scene-list");
     this.selected = null;
     this.scenes = [];
+    this.sharedReadOnly = false; // set once the server is known to have named users
     this.input.accept = ACCEPT.join(",");
     this.input.addEventListener("change", () => {
       if (this.input.files.length) this.upload(this.input.files[0]);
@@ -94,6 +95,12 @@ export class ScenesPanel extends EventTarget {
       const spheres = scene.sphereCount ? `, ${scene.sphereCount} spheres` : "";
       pick.querySelector("small").textContent = `${scene.triangleCount.toLocaleString()} triangles${spheres} · ${formatBytes(scene.sizeBytes)}`;
       pick.addEventListener("click", () => this.dispatchEvent(new CustomEvent("select", { detail: scene.id })));
+      if (this.sharedReadOnly && !scene.owner) {
+        // A sample on a server with named users: everyone's, no one deletes it.
+        pick.querySelector("small").textContent += " · shared sample";
+        li.append(pick);
+        return li;
+      }
       const remove = document.createElement("button");
       remove.type = "button";
       remove.className = "icon danger";

@@ -1,5 +1,6 @@
-"""What routes need from the running service: the stores, the records their
-paths name (each lookup of an id a path names lives here), and the JSON
+"""What routes need from the running service: the stores, the user a request
+acts as, the records their paths name (each lookup of an id a path names
+lives here, and answers another user's record as missing), and the JSON
 answers they give."""
 
 from __future__ import annotations
@@ -11,10 +12,11 @@ from google.protobuf.message import Message
 from rt import job_pb2
 
 from ..core.proto import to_dict
+from ..services import ownership
 from ..services.errors import NotFound
 from ..services.jobs import JobManager
 from ..services.scene_store import SceneStore, StoredScene
-
+from .guards import USER_KEY
 
 
 # Dependencies are coroutines: FastAPI runs a plain function in its thread pool,
@@ -27,18 +29,27 @@ async def jobs(request: Request) -> JobManager:
     return request.app.state.jobs
 
 
-def scene_or_404(store: SceneStore, scene_id: str) -> StoredScene:
-    stored = store.get(scene_id)
-    if stored is None:
-        raise NotFound(f"no scene with id '{scene_id}'")
-    return stored
+async def user(request: Request) -> str:
+    """The owner name the request acts as (RequestGuards identified its token): "" without named users."""
+    return request.scope.get(USER_KEY) or ""
 
 
-def job_or_404(manager: JobManager, job_id: str) -> job_pb2.Job:
+def scene_or_404(store: SceneStore, scene_id: str, user: str) -> StoredScene:
+    """A scene the user may see: theirs, or shared."""
+    return ownership.scene_for(store, scene_id, user)
+
+
+def job_or_404(manager: JobManager, job_id: str, user: str) -> job_pb2.Job:
+    """One of the user's jobs."""
     job = manager.get(job_id)
-    if job is None:
+    if not ownership.sees_job(job, user):
         raise NotFound(f"no job with id '{job_id}'")
     return job
+
+
+def scene_info(manager: JobManager, info: job_pb2.SceneInfo, user: str) -> job_pb2.SceneInfo:
+    """A scene as the user is shown it: of its references, theirs."""
+    return ownership.shown(info, user, lambda job_id: (job.owner if (job := manager.get(job_id)) else None))
 
 
 def proto_json(message: Message, status_code: int = 200, headers: dict[str, str] | None = None) -> JSONResponse:

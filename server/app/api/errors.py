@@ -13,7 +13,8 @@ from fastapi.responses import JSONResponse
 from starlette.exceptions import HTTPException
 
 from ..services import storage
-from ..services.errors import Conflict, Invalid, NotFound, Refused, ServiceError, TooLarge, UnsupportedType
+from ..services.errors import (Conflict, Forbidden, Invalid, NotFound, Refused, ServiceError, TooLarge, TooManyJobs,
+                               UnsupportedType)
 
 HTTP_STATUS: dict[type[ServiceError], int] = {
     NotFound: 404,
@@ -22,6 +23,8 @@ HTTP_STATUS: dict[type[ServiceError], int] = {
     Refused: 400,
     TooLarge: 413,
     UnsupportedType: 415,
+    Forbidden: 403,
+    TooManyJobs: 429,
 }
 
 
@@ -60,7 +63,8 @@ def add_error_handlers(app: FastAPI, data_dir: Path) -> None:
 
     @app.exception_handler(ServiceError)
     async def service_error(request: Request, exc: ServiceError):
-        return JSONResponse({"detail": str(exc)}, status_code=http_status(exc))
+        headers = {"Retry-After": str(exc.retry_after)} if isinstance(exc, TooManyJobs) else None
+        return JSONResponse({"detail": str(exc)}, status_code=http_status(exc), headers=headers)
 
     @app.exception_handler(HTTPException)
     async def http_error(request: Request, exc: HTTPException):

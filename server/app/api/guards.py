@@ -1,5 +1,6 @@
 """Checks every request passes before any route sees it: its Host and Origin
-(core/local_access.py), the API token, and the size of a scene upload; and the
+(core/local_access.py), the API token (whose user the request then acts as:
+scope["rt.user"], read by deps.user), and the size of a scene upload; and the
 security headers every response carries.
 
 A plain ASGI middleware rather than FastAPI's @app.middleware("http"): that
@@ -17,7 +18,9 @@ from starlette.types import ASGIApp, Receive, Scope, Send
 
 from ..core.config import Settings
 from ..core.local_access import CDN_PAGES, CONTENT_SECURITY_POLICY, SECURITY_HEADERS, host_refusal, origin_refusal
-from ..core.security import is_authorized
+from ..core.security import identify
+
+USER_KEY = "rt.user"  # the scope's entry naming the owner the request acts as
 
 # What every answer carries; pages but Swagger's and ReDoc's, the CSP too.
 WITH_CSP = [*SECURITY_HEADERS, (b"content-security-policy", CONTENT_SECURITY_POLICY)]
@@ -43,7 +46,7 @@ class RequestGuards:
                 return
             await self.app(scope, receive, send)
             return
-        refusal = self._refusal(connection, scope["method"])
+        refusal = self._refusal(connection, scope["method"], scope)
         headers = SECURITY_HEADERS if connection.url.path.startswith(CDN_PAGES) else WITH_CSP
 
         async def send_with_headers(message) -> None:
@@ -53,13 +56,15 @@ class RequestGuards:
 
         await (refusal or self.app)(scope, receive, send_with_headers)
 
-    def _refusal(self, request: HTTPConnection, method: str) -> JSONResponse | None:
+    def _refusal(self, request: HTTPConnection, method: str, scope: Scope) -> JSONResponse | None:
         path = request.url.path
         if why := host_refusal(self.settings, request.headers.get("host", "")):
             return JSONResponse({"detail": why}, status_code=400)
         if why := origin_refusal(self.settings, method, request.headers):
             return JSONResponse({"detail": why}, status_code=403)
-        if path.startswith("/api/") and not is_authorized(request, self.settings.api_token):
+        user = identify(request, self.settings) if path.startswith("/api/") else None
+        scope[USER_KEY] = user
+        if path.startswith("/api/") and user is None:
             return JSONResponse({"detail": "this server needs an API token: send 'Authorization: Bearer <token>'"},
                                 status_code=401, headers={"WWW-Authenticate": "Bearer"})
         # The multipart parser would spool the whole body before the route can count it.

@@ -30,7 +30,8 @@ PATH_NAMES = {"404": "No such scene or job, or no such image or layer of it"}
 INPUT = {"422": "A parameter or body the route cannot take; the detail names it"}
 # Routes of a job's images, layers and comparisons answer 409 until it is done.
 NOT_DONE = {"409": "The job is not done: its images exist once it is"}
-UPLOAD = {"413": "The upload is over this server's limits", "415": "Not a scene file this server reads"}
+UPLOAD = {"413": "The upload is over this server's limits, or over the user's quota of stored bytes (RT_QUOTA_MB)",
+          "415": "Not a scene file this server reads"}
 # What stores something (a state change; a job's image made when first asked for) can find the disk full.
 STORAGE = {"507": "The server's data folder is full"}
 

@@ -6,6 +6,8 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .users import User, load_users
+
 REPO_ROOT = Path(__file__).resolve().parents[3]
 
 
@@ -58,6 +60,14 @@ class Settings:
                                                                            _names("RT_ALLOWED_ORIGINS")))
     # When set, every /api route and the tile WebSocket need it as a bearer token.
     api_token: str = field(default_factory=lambda: os.environ.get("RT_API_TOKEN", ""))
+    # Named users (core/users.py: RT_USERS, RT_USERS_FILE), each with a token:
+    # each sees and deletes only their own scenes and jobs, and their tiles take
+    # turns with other users' (services/fair_share.py). Empty: one local user.
+    users: tuple[User, ...] = field(default_factory=load_users)
+    # Per-user quotas, 0 for none: bytes on disk (scenes and job files; an
+    # upload or a job past it answers 413), and jobs queued or running (429).
+    quota_bytes: int = field(default_factory=lambda: _int("RT_QUOTA_MB", 0, minimum=0) << 20)
+    quota_queued_jobs: int = field(default_factory=lambda: _int("RT_QUOTA_QUEUED_JOBS", 0, minimum=0))
     # Sample scenes (make samples) added to the store at start-up when missing.
     samples_dir: Path | None = field(default_factory=lambda: Path(os.environ["RT_SAMPLES_DIR"])
                                      if os.environ.get("RT_SAMPLES_DIR") else None)
@@ -71,8 +81,8 @@ class Settings:
     # streamed from their image on disk.
     kept_streams: int = field(default_factory=lambda: _int("RT_KEPT_STREAMS", 8))
     # The retention policy (services/retention.py): jobs that have ended are
-    # removed, with their files, unless among the newest RT_KEEP_JOBS or made
-    # in the last RT_KEEP_DAYS days; 0 turns a rule off, both 0 keep all.
+    # removed, with their files, unless among their owner's newest RT_KEEP_JOBS
+    # or made in the last RT_KEEP_DAYS days; 0 turns a rule off, both 0 keep all.
     keep_jobs: int = field(default_factory=lambda: _int("RT_KEEP_JOBS", 0, minimum=0))
     keep_days: float = field(default_factory=lambda: _number("RT_KEEP_DAYS", 0.0, float, minimum=0))
     # Loaded scenes a process keeps (their memory_bytes summed, BVHs included);

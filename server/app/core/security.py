@@ -1,4 +1,5 @@
-"""The optional API token (RT_API_TOKEN).
+"""API tokens: the optional one of a server with one local user
+(RT_API_TOKEN), or one per named user (RT_USERS, RT_USERS_FILE: core/users.py).
 
 Clients send it as `Authorization: Bearer <token>`. Browsers cannot set headers
 on a WebSocket, an <img> or a download link, so `?token=<token>` is accepted too,
@@ -50,3 +51,23 @@ def keep_tokens_out_of_logs() -> None:
 def is_authorized(connection: HTTPConnection, token: str) -> bool:
     """Always, without a configured token; else only with the same one."""
     return not token or hmac.compare_digest(presented_token(connection).encode(), token.encode())
+
+
+# The one user of a server without named users owns records as "".
+LOCAL_OWNER = ""
+
+
+def identify(connection: HTTPConnection, settings) -> str | None:
+    """The owner name the request acts as: LOCAL_OWNER on a server without
+    named users (given RT_API_TOKEN when it is set), a user's name when the
+    token is theirs, None when it is no one's. The presented token is compared
+    with every user's, each in constant time and without stopping at a match,
+    so the time taken tells nothing of which token matched or how much of it."""
+    if not settings.users:
+        return LOCAL_OWNER if is_authorized(connection, settings.api_token) else None
+    presented = presented_token(connection).encode()
+    found = None
+    for user in settings.users:
+        if hmac.compare_digest(presented, user.token.encode()) and found is None:
+            found = user.name
+    return found

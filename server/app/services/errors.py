@@ -32,3 +32,20 @@ class TooLarge(Refused):
 
 class UnsupportedType(Refused):
     """Content of a type the service does not take."""
+
+
+class Forbidden(ServiceError):
+    """A thing the caller may see but not change (a shared sample scene)."""
+
+
+class OverQuota(TooLarge):
+    """Stored bytes past the user's quota (RT_QUOTA_MB): an upload, or a job's output."""
+
+
+class TooManyJobs(ServiceError):
+    """More queued jobs than the user's quota (RT_QUOTA_QUEUED_JOBS); worth
+    trying again after `retry_after` seconds, as their jobs end."""
+
+    def __init__(self, message: str, retry_after: int):
+        super().__init__(message)
+        self.retry_after = retry_after

@@ -16,8 +16,7 @@ import logging
 import secrets
 import shutil
 import time
-from collections import OrderedDict
-from collections.abc import AsyncIterator
+from collections import Counter, OrderedDict
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -26,13 +25,17 @@ from rt import job_pb2, render_pb2
 
 from ..core.config import Settings
 from ..core.proto import normalize
-from . import comparisons, layer_files, references, retention, storage
+from . import layer_files, references, retention, storage
 from .cluster import RenderCluster
 from .data_access import DataAccess
-from .errors import Conflict, Invalid, NotFound, ServiceError
-from .job_image import finish_layers, layer_bytes, output_file, read_rgba
+from .errors import Conflict, Invalid, ServiceError
+from .fair_share import FairShare
+from .job_image import finish_layers
+from .job_outputs import JobOutputs, final_image_stream, whole_image_tile  # noqa: F401 (tests import them here)
 from .job_store import JobStore
 from .layer_files import layer_array
+from .ownership import scene_for
+from .quotas import Quotas
 from .scene_store import SceneStore, StoredScene
 from .streams import TileStream
 from .tile_plan import TileSpec, grid_size, plan_passes, rays_per_pixel
@@ -57,7 +60,7 @@ class RunningJob:
     runs: int = 0
 
 
-class JobManager:
+class JobManager(JobOutputs):
     def __init__(self, settings: Settings, cluster: RenderCluster, scenes: SceneStore, store: JobStore,
                  access: DataAccess):
         self._settings = settings
@@ -65,6 +68,9 @@ class JobManager:
         self._cluster = cluster
         self._scenes = scenes
         self._store = store
+        self.quotas = Quotas(settings, scenes, store)
+        self._fair = FairShare(enabled=bool(settings.users))
+        self._preparing: Counter[str] = Counter()  # jobs being prepared, by owner: queued by the quota's count
         self._running: dict[str, RunningJob] = {}
         self._unsaved: dict[str, job_pb2.Job] = {}  # ended, not saved for want of room (_save_ended)
         self._finished_streams: OrderedDict[str, TileStream] = OrderedDict()
@@ -77,38 +83,57 @@ class JobManager:
         found = self._tiles.get(event[1])
         if found is not None:  # not when the tile's result came first
             running, spec = found
+            self._fair.started(spec, running.record.request.interactive)
             await running.stream.publish(job_pb2.TileStreamMessage(started=spec.region()).SerializeToString())
 
     # --- requests -----------------------------------------------------------
 
-    def scene(self, scene_id: str) -> StoredScene:
-        """The stored scene a request names; NotFound naming the field."""
-        stored = self._scenes.get(scene_id)
-        if stored is None:
-            raise NotFound(f"scene_id: no scene with id '{scene_id}'")
-        return stored
+    def scene(self, scene_id: str, owner: str) -> StoredScene:
+        """The stored scene a request of `owner` names (theirs or shared); NotFound naming the field."""
+        return scene_for(self._scenes, scene_id, owner, "scene_id: ")
 
-    def prepare(self, body: bytes) -> tuple[job_pb2.Job, StoredScene]:
-        """A queued job record for a JSON rt.JobRequest, completed and checked
-        for its scene (core.proto.normalize) so that the renderer's own checks
-        answer now rather than inside a worker, and saved; blocking (run it
-        off the event loop). Raises NotFound or Invalid naming the problem."""
+    def prepare(self, body: bytes, owner: str) -> tuple[job_pb2.Job, StoredScene]:
+        """A queued job record of `owner` for a JSON rt.JobRequest, completed
+        and checked for its scene (core.proto.normalize) so that the renderer's
+        own checks answer now rather than inside a worker, and saved; blocking
+        (run it off the event loop). Raises NotFound, Invalid or OverQuota
+        naming the problem."""
         try:
-            request = normalize(job_pb2.JobRequest, body, lambda r: self.scene(r.scene_id).load())
+            request = normalize(job_pb2.JobRequest, body, lambda r: self.scene(r.scene_id, owner).load())
         except ValueError as e:
             raise Invalid(str(e)) from None
         pixels = request.settings.width * request.settings.height
         if pixels > self._settings.max_job_pixels:
             raise Invalid(f"settings: {request.settings.width}x{request.settings.height} is {pixels} pixels, "
                           f"above this server's limit of {self._settings.max_job_pixels}")
-        job = job_pb2.Job(id=secrets.token_hex(8), state=job_pb2.QUEUED, created_at=time.time(), request=request)
+        self.quotas.check_job(owner, request)
+        job = job_pb2.Job(id=secrets.token_hex(8), state=job_pb2.QUEUED, created_at=time.time(), request=request,
+                          owner=owner)
         self._store.save(job)
-        return job, self.scene(request.scene_id)
+        return job, self.scene(request.scene_id, owner)
 
-    async def submit(self, body: bytes) -> job_pb2.Job:
-        """Queues a JSON rt.JobRequest as a new job and starts it. Raises
-        NotFound (no such scene) or Invalid naming the problem."""
-        job, stored = await asyncio.to_thread(self.prepare, body)
+    def queued(self, owner: str) -> int:
+        """The owner's jobs queued or running."""
+        return sum(1 for r in self._running.values() if r.record.owner == owner)
+
+    async def user_info(self, owner: str) -> job_pb2.UserInfo:
+        """The owner's name and use of the server against its quotas (GET /api/me)."""
+        return await asyncio.to_thread(self.quotas.user_info, owner, self.queued(owner))
+
+    async def submit(self, body: bytes, owner: str = "") -> job_pb2.Job:
+        """Queues a JSON rt.JobRequest as a new job of `owner` and starts it.
+        Raises NotFound (no such scene), Invalid, OverQuota or TooManyJobs
+        naming the problem."""
+        # Counted on the event loop, with the jobs still being prepared, so
+        # that a burst of posts cannot slip past the limit together.
+        self.quotas.check_queued(self.queued(owner) + self._preparing[owner])
+        self._preparing[owner] += 1
+        try:
+            job, stored = await asyncio.to_thread(self.prepare, body, owner)
+        finally:
+            self._preparing[owner] -= 1
+            if not self._preparing[owner]:
+                del self._preparing[owner]
         self.start(job, stored)
         return job
 
@@ -121,8 +146,9 @@ class JobManager:
         running = self._running.get(job_id)
         return running.record if running else self._unsaved.get(job_id) or self._store.get(job_id)
 
-    def page(self, offset: int, limit: int) -> tuple[list[job_pb2.Job], int]:
-        jobs, total = self._store.page(offset, limit)
+    def page(self, offset: int, limit: int, owner: str) -> tuple[list[job_pb2.Job], int]:
+        """The owner's jobs, newest first, and how many they have."""
+        jobs, total = self._store.page(offset, limit, owner)
         return [self._running[j.id].record if j.id in self._running else self._unsaved.get(j.id, j)
                 for j in jobs], total
 
@@ -176,7 +202,8 @@ class JobManager:
             log.info("retention: removed %d jobs, %s", len(gone), retention.policy(self._settings))
 
     async def delete_scene(self, scene_id: str) -> None:
-        """Cancels the scene's running jobs, then deletes the scene (its jobs' records stay)."""
+        """Cancels the scene's running jobs, then deletes the scene (its jobs'
+        records stay). Only its owner deletes a scene: the jobs are theirs."""
         for job_id in [j for j, r in self._running.items() if r.record.request.scene_id == scene_id]:
             await self.cancel(job_id, "the scene was deleted")
         self._scenes.delete(scene_id)
@@ -191,71 +218,6 @@ class JobManager:
     def folder(self, job_id: str) -> Path:
         return self._settings.jobs_dir / job_id
 
-    async def finished_file(self, job: job_pb2.Job, filename: str) -> Path:
-        """output_file for a request: Conflict while the job is not done,
-        NotFound when it has no such layer."""
-        self.done_folder(job)
-        try:
-            return await self.output_file(job.id, filename)
-        except FileNotFoundError:
-            raise _no_layer(job, filename.rsplit(".", 1)[0]) from None
-
-    async def tile_messages(self, job: job_pb2.Job) -> AsyncIterator[bytes]:
-        """The job's tile stream as a viewer receives it (serialized
-        rt.TileStreamMessage): its TileStream, live or kept; for a finished job
-        no longer held in memory, its image.png as one tile, then the record."""
-        stream = self.stream(job.id)
-        if stream is not None:
-            async for message in stream.follow():
-                yield message
-            return
-        rgba = None
-        if job.state == job_pb2.DONE:
-            try:
-                rgba = await asyncio.to_thread(read_rgba, await self.output_file(job.id, "image.png"))
-            except FileNotFoundError:
-                pass  # the stream still ends with the record
-        for message in final_image_stream(job, rgba):
-            yield message
-
-    def done_folder(self, job: job_pb2.Job) -> Path:
-        """A job's folder, for what exists once it is done: Conflict before."""
-        if job.state != job_pb2.DONE:
-            raise Conflict(f"job '{job.id}' is {job_pb2.JobState.Name(job.state).lower()}: "
-                           "its image exists once it is done")
-        return self.folder(job.id)
-
-    def side(self, job: job_pb2.Job, layer: str = "color") -> comparisons.Side:
-        """One image of a comparison: a done job's colour layer (Conflict while it is not done)."""
-        return comparisons.Side(job.id, self.done_folder(job), layer)
-
-    async def compare(self, mine: comparisons.Side, theirs: comparisons.Side,
-                      rect: tuple[int, int, int, int] | None) -> job_pb2.ImageComparison:
-        """One job's image measured against another's (comparisons.compare)."""
-        return await asyncio.to_thread(comparisons.compare, mine, theirs, rect)
-
-    async def flip_layer(self, mine: comparisons.Side, theirs: comparisons.Side) -> bytes:
-        """The HDR-FLIP map of one job's image against another's, as a serialized rt.Layer."""
-        return await asyncio.to_thread(comparisons.flip_layer, mine, theirs)
-
-    async def layer(self, job: job_pb2.Job, name: str) -> bytes:
-        """A done job's linear layer as a serialized rt.Layer: Conflict while
-        the job is not done, NotFound when it has no such layer."""
-        folder = self.done_folder(job)
-        try:
-            return await asyncio.to_thread(layer_bytes, folder, name)
-        except FileNotFoundError:
-            raise _no_layer(job, name) from None
-
-    async def output_file(self, job_id: str, filename: str) -> Path:
-        """A done job's image.png, image.exr or <layer>.png, made when first
-        asked for (job_image.output_file); raises FileNotFoundError when the job
-        has no such layer. One at a time: making one is CPU-bound, and two
-        requests for the same file must not both make it."""
-        settings = self.get(job_id).request.settings.SerializeToString()
-        async with self._output_lock:
-            return await asyncio.to_thread(output_file, self.folder(job_id), filename, settings)
-
     # --- lifecycle ----------------------------------------------------------
 
     async def resume(self) -> None:
@@ -267,7 +229,8 @@ class JobManager:
                 self._end(job, job_pb2.FAILED, "the server restarted and the job's scene is gone")
                 continue
             log.info("resuming job %s", job.id)
-            fresh = job_pb2.Job(id=job.id, state=job_pb2.QUEUED, created_at=job.created_at, pinned=job.pinned)
+            fresh = job_pb2.Job(id=job.id, state=job_pb2.QUEUED, created_at=job.created_at, pinned=job.pinned,
+                                owner=job.owner)
             fresh.request.CopyFrom(job.request)
             self._store.save(fresh)
             self.start(fresh, stored)
@@ -320,7 +283,8 @@ class JobManager:
         request = job.request
         passes = plan_passes(request.settings.width, request.settings.height, self._cluster.total_threads(),
                              request.interactive, rays_per_pixel(request.settings, running.scene.info.lights))
-        specs = [spec for tiles in passes for spec in tiles]
+        specs = self._fair.order(job.id, request.interactive, [spec for tiles in passes for spec in tiles],
+                                 [j for j, r in self._running.items() if r.record.owner == job.owner], self._running)
         denoise = request.settings.denoise != render_pb2.NO_DENOISER
         last_pass = denoise or request.settings.bloom_strength > 0
         job.passes = len(passes) + last_pass
@@ -462,26 +426,3 @@ async def _store_tile(job: job_pb2.Job, layers_dir: Path, spec: TileSpec, result
     layers = {layer.name: layer_array(layer) for layer in result.layers}
     await asyncio.to_thread(layer_files.write_tile, layers_dir, spec.x, spec.y, layers)
     job.tiles_via_network += 1
-
-
-def _no_layer(job: job_pb2.Job, name: str) -> NotFound:
-    how = "settings.denoise" if name == layer_files.NOISY else "the request's outputs"
-    return NotFound(f"job '{job.id}' has no {name} layer (ask for it in {how})")
-
-
-def final_image_stream(job: job_pb2.Job, rgba) -> list[bytes]:
-    """The stream of a finished job no longer held in memory: the whole image
-    as one tile, then the record."""
-    messages = []
-    if rgba is not None:
-        h, w = rgba.shape[:2]
-        messages.append(whole_image_tile(job.id, max(job.passes, 1) - 1, w, h, rgba.tobytes()))
-    messages.append(job_pb2.TileStreamMessage(end=job).SerializeToString())
-    return messages
-
-
-def whole_image_tile(job_id: str, pass_index: int, width: int, height: int, rgba: bytes) -> bytes:
-    """The stream's message for a whole image (RGBA8 bytes) as one tile of `pass_index`."""
-    region = job_pb2.TileRegion(**{"pass": pass_index}, x=0, y=0, w=width, h=height)
-    tile = job_pb2.Tile(job=job_id, region=region, scale=1, pixels=rgba)
-    return job_pb2.TileStreamMessage(tile=tile).SerializeToString()

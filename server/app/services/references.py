@@ -2,8 +2,10 @@
 image size) is measured against, and that view's done jobs as points of
 render time against error, for the viewer's speed-against-error plot.
 
-A scene keeps its references' ids (SceneInfo.reference_jobs), one per view:
-marking a job replaces the reference its view had.
+A scene keeps its references' ids (SceneInfo.reference_jobs), one per view
+and user (a shared sample scene holds each user's own): marking a job
+replaces the reference its owner had for its view, and a user's jobs are
+measured against their own reference only.
 """
 
 from __future__ import annotations
@@ -59,13 +61,14 @@ def reference_ids(scenes: SceneStore) -> set[str]:
 
 
 def reference_for(scenes: SceneStore, manager, job: job_pb2.Job) -> job_pb2.Job | None:
-    """The reference of the job's view, or None."""
+    """The reference of the job's view (its owner's), or None."""
     stored = scenes.get(job.request.scene_id)
     if stored is None:
         return None
     for reference_id in reversed(stored.info.reference_jobs):
         reference = manager.get(reference_id)
-        if reference is not None and reference.state == job_pb2.DONE and same_view(reference, job):
+        if reference is not None and reference.state == job_pb2.DONE and reference.owner == job.owner \
+                and same_view(reference, job):
             return reference
     return None
 
@@ -79,8 +82,8 @@ def mark(scenes: SceneStore, manager, scene_id: str, job: job_pb2.Job) -> job_pb
     stored = scenes.get(scene_id)
     if stored is None:
         raise NotFound(f"no scene with id '{scene_id}'")
-    kept = [r for r in stored.info.reference_jobs
-            if r != job.id and (other := manager.get(r)) is not None and not same_view(other, job)]
+    kept = [r for r in stored.info.reference_jobs if r != job.id and (other := manager.get(r)) is not None
+            and not (other.owner == job.owner and same_view(other, job))]
     updated = scenes.set_references(scene_id, kept + [job.id])
     if updated is None:
         raise NotFound(f"no scene with id '{scene_id}'")
@@ -106,7 +109,7 @@ async def accuracy(scenes: SceneStore, manager, job: job_pb2.Job) -> job_pb2.Acc
     reference = reference_for(scenes, manager, job)
     if reference is None:
         return job_pb2.AccuracyPlot()
-    jobs, _ = manager.page(0, PLOT_JOBS)  # newest first
+    jobs, _ = manager.page(0, PLOT_JOBS, job.owner)  # newest first
     view = [other for other in jobs
             if other.id != reference.id and other.state == job_pb2.DONE and same_view(other, job)][:PLOT_POINTS]
     plot = job_pb2.AccuracyPlot(reference_id=reference.id)

@@ -1,8 +1,9 @@
 """The retention policy (RT_KEEP_JOBS, RT_KEEP_DAYS): which jobs that have
 ended go, so that the data folder does not grow forever.
 
-A job is kept while it is among the newest `keep_jobs` jobs or was made in
-the last `keep_days` days (either setting 0: that rule keeps nothing by
+A job is kept while it is among its owner's newest `keep_jobs` jobs (each
+user keeps their own N: one user's many jobs never push out another's) or
+was made in the last `keep_days` days (either setting 0: that rule keeps nothing by
 itself; both 0: every job is kept). Queued and running jobs, pinned ones
 (Job.pinned) and every view's reference are always kept.
 """
@@ -33,7 +34,9 @@ def expired(settings: Settings, store: JobStore, scenes: SceneStore, now: float)
     cutoff = now - settings.keep_days * DAY_SECONDS if settings.keep_days else None
     references = reference_ids(scenes)
     gone = []
-    for rank, (job_id, created_at, state) in enumerate(store.ages()):
+    ranks: dict[str, int] = {}  # jobs of each owner seen so far, newest first
+    for job_id, created_at, state, owner in store.ages():
+        rank = ranks[owner] = ranks.get(owner, -1) + 1
         if (settings.keep_jobs and rank < settings.keep_jobs) or (cutoff is not None and created_at >= cutoff):
             continue
         if state in ACTIVE_STATES or job_id in references:
@@ -46,7 +49,7 @@ def expired(settings: Settings, store: JobStore, scenes: SceneStore, now: float)
 
 def policy(settings: Settings) -> str:
     """The policy in words, for the log."""
-    rules = ([f"the newest {settings.keep_jobs}"] if settings.keep_jobs else []) + \
+    rules = ([f"each user's newest {settings.keep_jobs}"] if settings.keep_jobs else []) + \
         ([f"those of the last {settings.keep_days:g} days"] if settings.keep_days else [])
     return "keeping every job" if not rules else "keeping " + " and ".join(rules) + \
         ", pinned ones and references"

@@ -36,11 +36,12 @@ class StoredScene:
         return scene_cache.get_scene(self.sha256, self.scene_file)
 
 
-def _scene_info(scene_id: str, name: str, upload: StoredUpload, scene: rtcore.Scene) -> job_pb2.SceneInfo:
+def _scene_info(scene_id: str, name: str, upload: StoredUpload, scene: rtcore.Scene,
+                owner: str) -> job_pb2.SceneInfo:
     """What the renderer tells of the scene, and what the upload adds."""
     info = job_pb2.SceneInfo.FromString(scene.info)
     info.MergeFrom(job_pb2.SceneInfo(id=scene_id, name=name, format=upload.format, created_at=time.time(),
-                                     size_bytes=upload.size_bytes))
+                                     size_bytes=upload.size_bytes, owner=owner))
     return info
 
 
@@ -67,22 +68,27 @@ class SceneStore:
             shutil.rmtree(folder, ignore_errors=True)
             return None
 
-    def create(self, filename: str, stream: BinaryIO, name: str | None = None) -> StoredScene:
-        """Stores and loads an upload, shown as `name` (default: the file's
-        name). Raises UploadError (bad file) naming the problem."""
+    def create(self, filename: str, stream: BinaryIO, name: str | None = None, owner: str = "",
+               max_bytes: int | None = None) -> StoredScene:
+        """Stores and loads an upload of `owner` ("": shared, or the one local
+        user's), shown as `name` (default: the file's name), received and
+        unpacked up to the server's limits or `max_bytes` if lower (what a
+        quota leaves). Raises UploadError (bad file) naming the problem."""
         scene_id = secrets.token_hex(6)
         folder = self._root / scene_id
         files = folder / "files"
         files.mkdir(parents=True)
         try:
-            upload = store_upload(filename, stream, files, max_bytes=self._settings.max_upload_bytes,
-                                  max_unpacked_bytes=self._settings.max_unpacked_bytes,
+            received, unpacked = self._settings.max_upload_bytes, self._settings.max_unpacked_bytes
+            if max_bytes is not None:
+                received, unpacked = min(received, max_bytes), min(unpacked, max_bytes)
+            upload = store_upload(filename, stream, files, max_bytes=received, max_unpacked_bytes=unpacked,
                                   max_files=self._settings.max_upload_files)
             try:
                 scene = scene_cache.get_scene(upload.sha256, upload.scene_file)
             except ValueError as e:
                 raise UploadError(f"{Path(filename).name}: {e}") from None
-            info = _scene_info(scene_id, name or Path(filename).name, upload, scene)
+            info = _scene_info(scene_id, name or Path(filename).name, upload, scene, owner)
             if upload.left_out:
                 shown = ", ".join(upload.left_out[:5]) + (", ..." if len(upload.left_out) > 5 else "")
                 info.warnings.append(f"left out {len(upload.left_out)} file(s) of types a scene does not use: {shown}")

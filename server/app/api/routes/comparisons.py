@@ -16,7 +16,7 @@ from rt import job_pb2
 from ...core.proto import json_response
 from ...services.errors import Invalid
 from ...services.jobs import JobManager
-from ..deps import job_or_404, jobs, proto_json
+from ..deps import job_or_404, jobs, proto_json, user
 from .jobs import MAX_INDEX
 
 router = APIRouter(prefix="/api/jobs", tags=["comparisons"])
@@ -34,12 +34,12 @@ async def compare(job_id: str, reference_id: str,
                                         description="a rectangle's left column (with y, w and h)"),
                   y: int | None = Query(None, ge=0, le=MAX_INDEX), w: int | None = Query(None, ge=1, le=MAX_INDEX),
                   h: int | None = Query(None, ge=1, le=MAX_INDEX), layer: Layer = LAYER, reference_layer: Layer = REFERENCE_LAYER,
-                  manager: JobManager = Depends(jobs)):
+                  manager: JobManager = Depends(jobs), owner: str = Depends(user)):
     given = [v is not None for v in (x, y, w, h)]
     if any(given) and not all(given):
         raise Invalid("a region needs all of x, y, w and h")
-    mine = manager.side(job_or_404(manager, job_id), layer)
-    theirs = manager.side(job_or_404(manager, reference_id), reference_layer)
+    mine = manager.side(job_or_404(manager, job_id, owner), layer)
+    theirs = manager.side(job_or_404(manager, reference_id, owner), reference_layer)
     return proto_json(await manager.compare(mine, theirs, (x, y, w, h) if all(given) else None))
 
 
@@ -47,7 +47,7 @@ async def compare(job_id: str, reference_id: str,
             responses={200: {"content": {"application/x-protobuf": {}},
                              "description": "A serialized rt.Layer: the HDR-FLIP error of each pixel"}})
 async def flip_map(job_id: str, reference_id: str, layer: Layer = LAYER, reference_layer: Layer = REFERENCE_LAYER,
-                   manager: JobManager = Depends(jobs)):
-    mine = manager.side(job_or_404(manager, job_id), layer)
-    theirs = manager.side(job_or_404(manager, reference_id), reference_layer)
+                   manager: JobManager = Depends(jobs), owner: str = Depends(user)):
+    mine = manager.side(job_or_404(manager, job_id, owner), layer)
+    theirs = manager.side(job_or_404(manager, reference_id, owner), reference_layer)
     return Response(await manager.flip_layer(mine, theirs), media_type="application/x-protobuf")

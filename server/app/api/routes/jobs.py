@@ -8,12 +8,13 @@ from fastapi.responses import FileResponse, Response
 from rt import job_pb2
 
 from ...core.proto import json_body, json_response
-from ...core.security import is_authorized
+from ...core.security import identify
+from ...services import ownership
 from ...services.errors import NotFound
 from ...services.job_image import heat_ramp_png
 from ...services.jobs import JobManager
 from ...services.layer_files import AUX_CHANNELS, NOISY
-from ..deps import job_or_404, jobs, proto_json
+from ..deps import job_or_404, jobs, proto_json, user
 
 router = APIRouter(prefix="/api/jobs", tags=["jobs"])
 
@@ -27,16 +28,21 @@ HEAT_RAMP_PNG = heat_ramp_png()
 
 @router.post("", status_code=202, openapi_extra=json_body(job_pb2.JobRequest),
              responses={202: json_response(job_pb2.Job, "The queued job; Location is its address"),
-                        404: {"description": "scene_id names no scene"}})
-async def submit_job(request: Request, manager: JobManager = Depends(jobs)):
-    job = await manager.submit(await request.body())
+                        404: {"description": "scene_id names no scene"},
+                        413: {"description": "The job's output would take the user past their stored-bytes quota"},
+                        429: {"description": "The user has as many jobs queued or running as their quota allows; "
+                                             "Retry-After says when to try again",
+                              "headers": {"Retry-After": {"description": "Seconds to wait",
+                                                          "schema": {"type": "integer"}}}}})
+async def submit_job(request: Request, manager: JobManager = Depends(jobs), owner: str = Depends(user)):
+    job = await manager.submit(await request.body(), owner)
     return proto_json(job, 202, {"Location": f"/api/jobs/{job.id}"})
 
 
-@router.get("", responses={200: json_response(job_pb2.JobList, "Jobs, newest first")})
+@router.get("", responses={200: json_response(job_pb2.JobList, "The caller's jobs, newest first")})
 def list_jobs(offset: int = Query(0, ge=0, le=MAX_INDEX), limit: int = Query(20, ge=1, le=200),
-              manager: JobManager = Depends(jobs)):
-    page, total = manager.page(offset, limit)
+              manager: JobManager = Depends(jobs), owner: str = Depends(user)):
+    page, total = manager.page(offset, limit, owner)
     return proto_json(job_pb2.JobList(jobs=page, total=total, offset=offset))
 
 
@@ -47,53 +53,54 @@ def bvh_cost_legend():
 
 
 @router.get("/{job_id}", responses={200: json_response(job_pb2.Job, "The job")})
-async def get_job(job_id: str, manager: JobManager = Depends(jobs)):
-    return proto_json(job_or_404(manager, job_id))
+async def get_job(job_id: str, manager: JobManager = Depends(jobs), owner: str = Depends(user)):
+    return proto_json(job_or_404(manager, job_id, owner))
 
 
 @router.delete("/{job_id}", status_code=200, responses={
     200: json_response(job_pb2.Job, "A queued or running job, cancelled: its record"),
     204: {"description": "A job that had ended, deleted with its images and layers"},
     409: {"description": "The job is its view's reference: unmark it first"}})
-async def delete_job(job_id: str, manager: JobManager = Depends(jobs)):
-    cancelled = await manager.delete(job_or_404(manager, job_id))
+async def delete_job(job_id: str, manager: JobManager = Depends(jobs), owner: str = Depends(user)):
+    cancelled = await manager.delete(job_or_404(manager, job_id, owner))
     return proto_json(cancelled) if cancelled is not None else Response(status_code=204)
 
 
 @router.put("/{job_id}/pin", responses={200: json_response(job_pb2.Job, "The job, pinned")})
-async def pin_job(job_id: str, manager: JobManager = Depends(jobs)):
+async def pin_job(job_id: str, manager: JobManager = Depends(jobs), owner: str = Depends(user)):
     """Keeps the job whatever the retention policy (RT_KEEP_JOBS, RT_KEEP_DAYS) says."""
-    return proto_json(manager.pin(job_or_404(manager, job_id), True))
+    return proto_json(manager.pin(job_or_404(manager, job_id, owner), True))
 
 
 @router.delete("/{job_id}/pin", responses={200: json_response(job_pb2.Job, "The job, no longer pinned")})
-async def unpin_job(job_id: str, manager: JobManager = Depends(jobs)):
-    return proto_json(manager.pin(job_or_404(manager, job_id), False))
+async def unpin_job(job_id: str, manager: JobManager = Depends(jobs), owner: str = Depends(user)):
+    return proto_json(manager.pin(job_or_404(manager, job_id, owner), False))
 
 
 @router.get("/{job_id}/image.exr", response_class=FileResponse,
             responses={200: {"content": {"image/x-exr": {}}, "description": "Linear colour and auxiliary layers"}})
-async def job_exr(job_id: str, manager: JobManager = Depends(jobs)):
-    path = await manager.finished_file(job_or_404(manager, job_id), "image.exr")
+async def job_exr(job_id: str, manager: JobManager = Depends(jobs), owner: str = Depends(user)):
+    path = await manager.finished_file(job_or_404(manager, job_id, owner), "image.exr")
     return FileResponse(path, media_type="image/x-exr", filename=f"{job_id}.exr")
 
 
 @router.get("/{job_id}/{name}.png", response_class=FileResponse,
             responses={200: {"content": {"image/png": {}}, "description": "sRGB colour, or an auxiliary layer"}})
-async def job_png(job_id: str, name: str, manager: JobManager = Depends(jobs)):
+async def job_png(job_id: str, name: str, manager: JobManager = Depends(jobs), owner: str = Depends(user)):
     if name not in IMAGE_NAMES:
         raise NotFound(f"no image named '{name}.png' (one of: {', '.join(IMAGE_NAMES)})")
-    path = await manager.finished_file(job_or_404(manager, job_id), f"{name}.png")
+    path = await manager.finished_file(job_or_404(manager, job_id, owner), f"{name}.png")
     return FileResponse(path, media_type="image/png")
 
 
 @router.get("/{job_id}/layers/{name}", response_class=Response,
             responses={200: {"content": {"application/x-protobuf": {}},
                              "description": "A serialized rt.Layer: the layer's linear float32 values, whole"}})
-async def job_layer(job_id: str, name: str, manager: JobManager = Depends(jobs)):
+async def job_layer(job_id: str, name: str, manager: JobManager = Depends(jobs), owner: str = Depends(user)):
     if name not in LAYER_NAMES:
         raise NotFound(f"no layer named '{name}' (one of: {', '.join(LAYER_NAMES)})")
-    return Response(await manager.layer(job_or_404(manager, job_id), name), media_type="application/x-protobuf")
+    return Response(await manager.layer(job_or_404(manager, job_id, owner), name),
+                    media_type="application/x-protobuf")
 
 
 @router.websocket("/{job_id}/tiles")
@@ -102,11 +109,12 @@ async def tile_stream(websocket: WebSocket, job_id: str):
     then the final job record; the server closes the socket after it."""
     manager: JobManager = websocket.app.state.jobs
     await websocket.accept()
-    if not is_authorized(websocket, websocket.app.state.settings.api_token):
+    owner = identify(websocket, websocket.app.state.settings)
+    if owner is None:
         await websocket.close(code=4401, reason="this server needs an API token: add ?token=<token>")
         return
     job = manager.get(job_id)
-    if job is None:
+    if not ownership.sees_job(job, owner):
         await websocket.close(code=4404, reason=f"no job with id '{job_id}'")
         return
     try:
