@@ -1,8 +1,11 @@
 """docker-compose.yml brought up with podman alone, read from the file users
 get, so that the file is what the test proves.
 
-podman-compose (Debian's 1.0.3) starts a service as soon as the one it depends
-on is created: it ignores `condition: service_healthy`. And podman runs health
+podman-compose (Debian's 1.0.3) cannot: it takes the "CMD" off a health
+check's list in place, so the second worker replica's check starts with
+"python" and it stops ("unknown healthcheck test type"); it would also start a
+service as soon as the one it depends on is created, ignoring `condition:
+service_healthy`, and it quotes an exec-form check wrongly. And podman runs health
 checks from systemd timers, which hosts without systemd (containers, CI) do not
 have, so no check ever runs by itself. This runner does both itself: it starts
 the services in dependency order, and runs each container's health check with

@@ -45,7 +45,7 @@ def allow_inherited_ulimits(conf: Path = CONTAINERS_CONF) -> None:
 
 def prepare_host() -> None:
     if os.geteuid() != 0:
-        raise SystemExit("the compose test installs packages and runs rootful podman: run it as root")
+        raise RuntimeError("the compose test installs packages and runs rootful podman: run it as root")
     install_packages()
     allow_inherited_ulimits()
     assert shutil.which("podman"), "podman is missing after installing it"
