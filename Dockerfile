@@ -1,8 +1,14 @@
 # rt: one image for the server, the Dask scheduler and the workers.
 # Stage 1 builds the renderer (rtrender, rtcore, generated proto code) once;
 # stage 2 builds the viewer; stage 3 is the runtime with only what they need.
+#
+# The base images are build arguments: the registry's by default, local ones
+# where no registry is reachable (tests/compose builds them with debootstrap).
+ARG DEBIAN_IMAGE=debian:bookworm
+ARG DEBIAN_SLIM_IMAGE=debian:bookworm-slim
+ARG NODE_IMAGE=node:20-bookworm-slim
 
-FROM debian:bookworm AS renderer
+FROM ${DEBIAN_IMAGE} AS renderer
 RUN apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
       cmake ninja-build g++ pkg-config python3 python3-venv python3-dev \
       libopenimageio-dev libglm-dev libtinygltf-dev libtinyobjloader-dev libstb-dev libwebp-dev nlohmann-json3-dev \
@@ -24,8 +30,11 @@ RUN cmake -S renderer -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DRT_BENCH=OF
       -DPython_EXECUTABLE=/opt/venv/bin/python -DRT_RUNTIME_DIR=/src/build \
     && cmake --build build --target rtrender rtcore rt_proto_python
 
-FROM node:20-bookworm-slim AS web
-RUN apt-get update && apt-get install -y --no-install-recommends protobuf-compiler && rm -rf /var/lib/apt/lists/*
+FROM ${NODE_IMAGE} AS web
+# protoc's well-known types (google/protobuf/descriptor.proto, which
+# proto/rt/options.proto imports) come with libprotobuf-dev.
+RUN apt-get update && apt-get install -y --no-install-recommends protobuf-compiler libprotobuf-dev \
+    && rm -rf /var/lib/apt/lists/*
 WORKDIR /src
 COPY proto proto
 COPY docs/charts docs/charts
@@ -34,7 +43,7 @@ RUN cd web && npm ci
 COPY web web
 RUN cd web && npm run build
 
-FROM debian:bookworm-slim
+FROM ${DEBIAN_SLIM_IMAGE}
 RUN apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
       python3 libopenimageio2.4 libprotobuf32 libwebp7 libdraco7 libmeshoptimizer2d \
     && rm -rf /var/lib/apt/lists/*

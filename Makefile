@@ -25,13 +25,14 @@ BENCH_FUZZ_SECONDS ?= 300
 # Requests schemathesis makes per API operation and phase: in `make test` (15), and in `make bench`.
 BENCH_API_EXAMPLES ?= 300
 
-.PHONY: help deps venv build build-asan build-fuzz samples web test test-cpp test-asan fuzz test-py test-web run bench chaos charts clean
+.PHONY: help deps venv build build-asan build-fuzz samples web test test-cpp test-asan fuzz test-py test-web test-compose run bench chaos charts clean
 
 help:
 	@echo "make run    serve the app on http://127.0.0.1:8000 (HOST, PORT override)"
 	@echo "make test   build everything and run every test"
 	@echo "make build  build the renderer, rtrender and rtcore"
 	@echo "make bench  benchmarks: BVH against Embree, the 2020 report's performance table, the service against rtrender"
+	@echo "make test-compose  build the image and run docker-compose.yml under podman (not in make test)"
 	@echo "make fuzz   the loaders' libFuzzer targets, FUZZ_SECONDS each (crashes kept in build/fuzz/crashes)"
 	@echo "make chaos  worker kills and a scheduler restart during batches, in the multi-process topology (~4 min)"
 	@echo "make charts speed against accuracy, stability and scaling charts into docs/charts (on a quiet machine)"
@@ -99,7 +100,13 @@ fuzz: build-fuzz samples
 	$(PY) renderer/fuzz/run_fuzz.py --build $(BUILD)/fuzz --seeds $(BUILD)/fuzz/seeds --seconds $(FUZZ_SECONDS) --jobs $(JOBS)
 
 test-py: build samples
-	$(PY) -m pytest -q tests
+	$(PY) -m pytest -q tests --ignore=tests/compose
+
+# The Dockerfile and docker-compose.yml under podman, with base images made
+# locally (no registry needed): tests/compose/test_compose.py installs podman
+# when missing. Not part of `make test`: a cold run builds the image (long).
+test-compose: build samples
+	$(PY) -m pytest -q tests/compose
 
 # The viewer (web/): npm packages when node_modules is missing or older than the
 # lockfile; web/dist rebuilt (proto code generated first) unless it is newer than
