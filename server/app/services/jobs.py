@@ -20,7 +20,7 @@ from collections import Counter, OrderedDict
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from distributed import as_completed
+from distributed import Future, as_completed
 from rt import job_pb2, render_pb2
 
 from ..core.config import Settings
@@ -28,16 +28,17 @@ from ..core.proto import normalize
 from . import layer_files, references, retention, storage
 from .cluster import RenderCluster
 from .data_access import DataAccess
-from .errors import Conflict, Invalid, ServiceError
+from .errors import Invalid, ServiceError
 from .fair_share import FairShare
 from .job_image import finish_layers
 from .job_outputs import JobOutputs, final_image_stream, whole_image_tile  # noqa: F401 (tests import them here)
+from .job_removal import JobRemoval
 from .job_store import JobStore
-from .layer_files import layer_array
 from .ownership import scene_for
 from .quotas import Quotas
 from .scene_store import SceneStore, StoredScene
 from .streams import TileStream
+from .tile_results import RunProgress, store_tile
 from .tile_plan import TileSpec, grid_size, plan_passes, rays_per_pixel
 from .tile_tasks import TILE_STARTED_TOPIC, aux_names, render_tile
 
@@ -60,7 +61,7 @@ class RunningJob:
     runs: int = 0
 
 
-class JobManager(JobOutputs):
+class JobManager(JobOutputs, JobRemoval):
     def __init__(self, settings: Settings, cluster: RenderCluster, scenes: SceneStore, store: JobStore,
                  access: DataAccess):
         self._settings = settings
@@ -162,53 +163,6 @@ class JobManager(JobOutputs):
             await asyncio.gather(running.task, return_exceptions=True)
         return running.record
 
-    async def delete(self, job: job_pb2.Job) -> job_pb2.Job | None:
-        """DELETE /api/jobs/{id}: a queued or running job is cancelled, and its
-        record answered (as ever); a job that has ended goes, with its files
-        (None). A view's reference is refused until it is unmarked."""
-        if job.id in self._running:
-            return await self.cancel(job.id)
-        if job.id in references.reference_ids(self._scenes):
-            raise Conflict(f"job '{job.id}' is its view's reference: unmark it first "
-                           f"(DELETE /api/scenes/{job.request.scene_id}/references/{job.id})")
-        await self._remove(job.id)
-        return None
-
-    async def _remove(self, job_id: str) -> None:
-        """A job that has ended, gone: its record, its stream, its files."""
-        self._store.delete(job_id)
-        self._finished_streams.pop(job_id, None)
-        async with self._output_lock:  # not while one of its images is being made
-            await asyncio.to_thread(shutil.rmtree, self.folder(job_id), True)
-        storage.forget_size(self._settings.data_dir)
-
-    def pin(self, job: job_pb2.Job, pinned: bool) -> job_pb2.Job:
-        """Keeps a job (as get() answers it: a running one's live record) whatever
-        the retention policy says, or lets it go again."""
-        job.pinned = pinned
-        self._store.save(job)
-        return job
-
-    async def apply_retention(self) -> None:
-        """Removes the jobs the retention policy lets go (services/retention.py),
-        after saving the records a full disk kept in memory."""
-        for job in list(self._unsaved.values()):
-            self._save_ended(job)
-        gone = await asyncio.to_thread(retention.expired, self._settings, self._store, self._scenes, time.time())
-        for job_id in gone:
-            if job_id not in self._running:  # none is, unless one was resumed meanwhile
-                await self._remove(job_id)
-        if gone:
-            log.info("retention: removed %d jobs, %s", len(gone), retention.policy(self._settings))
-
-    async def delete_scene(self, scene_id: str) -> None:
-        """Cancels the scene's running jobs, then deletes the scene (its jobs'
-        records stay). Only its owner deletes a scene: the jobs are theirs."""
-        for job_id in [j for j, r in self._running.items() if r.record.request.scene_id == scene_id]:
-            await self.cancel(job_id, "the scene was deleted")
-        self._scenes.delete(scene_id)
-        storage.forget_size(self._settings.data_dir)
-
     def stream(self, job_id: str) -> TileStream | None:
         running = self._running.get(job_id)
         if running is not None:
@@ -277,10 +231,8 @@ class JobManager(JobOutputs):
     # --- running ------------------------------------------------------------
 
     async def _run(self, running: RunningJob) -> None:
-        job = running.record
+        job, request = running.record, running.record.request
         running.runs += 1
-        lost = False
-        request = job.request
         passes = plan_passes(request.settings.width, request.settings.height, self._cluster.total_threads(),
                              request.interactive, rays_per_pixel(request.settings, running.scene.info.lights))
         specs = self._fair.order(job.id, request.interactive, [spec for tiles in passes for spec in tiles],
@@ -289,49 +241,20 @@ class JobManager(JobOutputs):
         last_pass = denoise or request.settings.bloom_strength > 0
         job.passes = len(passes) + last_pass
         job.tiles_total = len(specs) + last_pass
-        total_pixels = sum(s.pixels for s in specs)
         folder = self.folder(job.id)
         run_id = f"{job.id}-{secrets.token_hex(3)}"  # a resumed job is a new run, with keys of its own
         futures: dict[str, TileSpec] = {}
-        submitted = set()  # those not handled yet: a handled tile's result may leave the workers' memory
-        pixels_done = camera_samples = 0
-        shutdown = False
+        submitted: set[Future] = set()  # not handled yet: a handled tile's result may leave the workers' memory
+        lost = shutdown = False
         try:
             layers_dir = await asyncio.to_thread(layer_files.create, folder, request.settings.width,
                                                  request.settings.height, grid_size(passes[-1]), aux_names(request),
                                                  noisy=denoise)
-            args = (self._access, running.scene.sha256, str(running.scene.scene_file), request.SerializeToString(),
-                    job.id, run_id, str(layers_dir))
-            keys: dict[TileSpec, str] = {}
-            tasks, priorities = {}, {}
-            for spec in specs:  # previews first: a tile's task names its preview's key, whose result it takes
-                key = keys[spec] = f"tile-{run_id}-{spec.pass_index}-{spec.x}-{spec.y}"
-                tasks[key] = (render_tile, *args, spec) + ((keys[spec.preview],) if spec.preview else ())
-                priorities[key] = spec.priority
-                futures[key] = spec
-                self._tiles[key] = (running, spec)
-            submitted = set(self._cluster.submit(f"job-{run_id}", tasks, priorities))
+            futures, submitted = self._submit(running, run_id, layers_dir, specs)
+            progress = RunProgress(job, specs)
             async for future in as_completed(list(submitted)):
-                spec = futures[future.key]
-                result = await future
+                await self._take(running, progress, layers_dir, futures[future.key], await future)
                 self._tiles.pop(future.key, None)
-                if spec.scale == 1:
-                    await _store_tile(job, layers_dir, spec, result)
-                if job.state == job_pb2.QUEUED:
-                    job.state = job_pb2.RUNNING
-                    job.started_at = result.started
-                    # The store keeps states, not progress: a restart runs a job again from the start.
-                    self._store.save(job)
-                await running.stream.publish(result.message)
-                job.tiles_done += 1
-                # Previews count too: their pixels are part of the image.
-                pixels_done += spec.pixels
-                camera_samples += result.samples
-                job.progress = pixels_done / total_pixels
-                job.mean_samples_per_pixel = camera_samples / pixels_done
-                job.render_seconds += result.seconds
-                job.rays += result.rays
-                await running.stream.update(job)  # its new state (the first tile's) and progress
                 submitted.discard(future)
             if last_pass:
                 await self._last_pass(running, folder, len(passes))
@@ -346,25 +269,67 @@ class JobManager(JobOutputs):
                 shutil.rmtree(folder, ignore_errors=True)
                 self._end(job, job_pb2.CANCELLED, "cancelled by request")
         except Exception as e:  # a tile failed (or its files could not be made): the job fails with the reason
-            lost = self._cluster.lost(e)
-            log.log(logging.WARNING if lost else logging.ERROR, "job %s failed", job.id, exc_info=not lost)
             await self._cluster.stop(run_id, list(submitted))
             shutil.rmtree(folder, ignore_errors=True)
-            if lost and running.runs >= MAX_RUNS:
-                self._end(job, job_pb2.FAILED, f"its cluster lost its Dask scheduler {running.runs} times: {e}")
-            elif not lost:
-                reason = storage.full_message(self._settings.data_dir, e) if storage.is_full(e) \
-                    else f"{type(e).__name__}: {e}"
-                self._end(job, job_pb2.FAILED, reason)
+            lost = self._failed(running, e)
         finally:
             for key in futures:
                 self._tiles.pop(key, None)
-            if lost and running.runs < MAX_RUNS:
+            if lost:
                 await self._requeue(running)
             elif not shutdown:
                 await self._finish(running)
             else:
                 self._running.pop(job.id, None)
+
+    def _submit(self, running: RunningJob, run_id: str, layers_dir: Path,
+                specs: list[TileSpec]) -> tuple[dict[str, TileSpec], set[Future]]:
+        """The run's tiles as one Dask graph: each tile's key and spec, and their futures."""
+        job, scene = running.record, running.scene
+        args = (self._access, scene.sha256, str(scene.scene_file), job.request.SerializeToString(), job.id, run_id,
+                str(layers_dir))
+        futures: dict[str, TileSpec] = {}
+        keys: dict[TileSpec, str] = {}
+        tasks, priorities = {}, {}
+        for spec in specs:  # previews first: a tile's task names its preview's key, whose result it takes
+            key = keys[spec] = f"tile-{run_id}-{spec.pass_index}-{spec.x}-{spec.y}"
+            tasks[key] = (render_tile, *args, spec) + ((keys[spec.preview],) if spec.preview else ())
+            priorities[key] = spec.priority
+            futures[key] = spec
+            self._tiles[key] = (running, spec)
+        return futures, set(self._cluster.submit(f"job-{run_id}", tasks, priorities))
+
+    async def _take(self, running: RunningJob, progress: RunProgress, layers_dir: Path, spec: TileSpec,
+                    result: job_pb2.TileResult) -> None:
+        """A tile's result: its layers stored when its worker sent them, its
+        pixels to the job's viewers, its counts into the record."""
+        job = running.record
+        if spec.scale == 1:
+            await store_tile(job, layers_dir, spec, result)
+        if job.state == job_pb2.QUEUED:
+            job.state = job_pb2.RUNNING
+            job.started_at = result.started
+            # The store keeps states, not progress: a restart runs a job again from the start.
+            self._store.save(job)
+        await running.stream.publish(result.message)
+        progress.add(spec, result)
+        await running.stream.update(job)  # its new state (the first tile's) and progress
+
+    def _failed(self, running: RunningJob, error: Exception) -> bool:
+        """Ends a run that failed, with the reason; True when its cluster lost
+        it instead (the scheduler went away) and it should run again."""
+        job = running.record
+        lost = self._cluster.lost(error)
+        log.log(logging.WARNING if lost else logging.ERROR, "job %s failed", job.id, exc_info=not lost)
+        if lost and running.runs < MAX_RUNS:
+            return True
+        if lost:
+            self._end(job, job_pb2.FAILED, f"its cluster lost its Dask scheduler {running.runs} times: {error}")
+        elif storage.is_full(error):
+            self._end(job, job_pb2.FAILED, storage.full_message(self._settings.data_dir, error))
+        else:
+            self._end(job, job_pb2.FAILED, f"{type(error).__name__}: {error}")
+        return False
 
     async def _requeue(self, running: RunningJob) -> None:
         """A run its cluster lost starts again from scratch, as a restart of
@@ -416,13 +381,3 @@ class JobManager(JobOutputs):
         job.tiles_done += 1
         await running.stream.update(job)
 
-
-async def _store_tile(job: job_pb2.Job, layers_dir: Path, spec: TileSpec, result: job_pb2.TileResult) -> None:
-    """A full-resolution tile's layers, written by its worker or, sent back by
-    one that does not see the data folder, here; counted by the way they came."""
-    if result.shared_folder:
-        job.tiles_via_shared_folder += 1
-        return
-    layers = {layer.name: layer_array(layer) for layer in result.layers}
-    await asyncio.to_thread(layer_files.write_tile, layers_dir, spec.x, spec.y, layers)
-    job.tiles_via_network += 1
