@@ -17,6 +17,7 @@ from .api.openapi import build_schema
 from .api.routes import cluster, comparisons, health, jobs, references, scenes, users
 from .core.allocator import keep_freed_memory
 from .core.config import Settings, load_settings
+from .core.log_writer import write_logs_off_the_event_loop
 from .core.security import keep_tokens_out_of_logs
 from .services.cluster import RenderCluster
 from .services.data_access import server_access
@@ -34,6 +35,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     @asynccontextmanager
     async def lifespan(app: FastAPI):
         settings.data_dir.mkdir(parents=True, exist_ok=True)
+        put_logs_back = write_logs_off_the_event_loop()
         keep_freed_memory()
         app.state.settings = settings
         app.state.data_access = server_access(settings)
@@ -52,6 +54,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         finally:
             await app.state.jobs.shutdown()
             await app.state.cluster.close()
+            put_logs_back()
 
     app = FastAPI(title="rt", summary="Ray tracing render service", lifespan=lifespan)
     for router in (health.router, users.router, scenes.router, jobs.router, comparisons.router, references.router,

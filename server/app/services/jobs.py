@@ -127,7 +127,8 @@ class JobManager(JobOutputs, JobRemoval):
         naming the problem."""
         # Counted on the event loop, with the jobs still being prepared, so
         # that a burst of posts cannot slip past the limit together.
-        self.quotas.check_queued(self.queued(owner) + self._preparing[owner])
+        if self.quotas.quota_queued_jobs:  # counting walks the running jobs
+            self.quotas.check_queued(self.queued(owner) + self._preparing[owner])
         self._preparing[owner] += 1
         try:
             job, stored = await asyncio.to_thread(self.prepare, body, owner)
@@ -236,7 +237,7 @@ class JobManager(JobOutputs, JobRemoval):
         passes = plan_passes(request.settings.width, request.settings.height, self._cluster.total_threads(),
                              request.interactive, rays_per_pixel(request.settings, running.scene.info.lights))
         specs = self._fair.order(job.id, request.interactive, [spec for tiles in passes for spec in tiles],
-                                 [j for j, r in self._running.items() if r.record.owner == job.owner], self._running)
+                                 (j for j, r in self._running.items() if r.record.owner == job.owner), self._running)
         denoise = request.settings.denoise != render_pb2.NO_DENOISER
         last_pass = denoise or request.settings.bloom_strength > 0
         job.passes = len(passes) + last_pass

@@ -51,6 +51,14 @@ def forget_size(data_dir: Path) -> None:
     _sizes.pop(data_dir, None)
 
 
+def fresh_usage(data_dir: Path) -> tuple[int, int] | None:
+    """usage() when the folder's size needs no walk (no thread needed), else None."""
+    walked, size = _sizes.get(data_dir, (-math.inf, 0))
+    if time.monotonic() - walked > SIZE_MAX_AGE_SECONDS:
+        return None
+    return size, shutil.disk_usage(data_dir).free
+
+
 def usage(data_dir: Path) -> tuple[int, int]:
     """(bytes the data folder takes on disk, as walked in the last
     SIZE_MAX_AGE_SECONDS; bytes free on its disk). One caller walks at a time;

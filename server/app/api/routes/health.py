@@ -20,7 +20,9 @@ router = APIRouter(prefix="/api", tags=["health"])
 async def health(request: Request):
     # On the event loop, where the cluster's totals are the client's cache (no
     # round trip to the scheduler through the loop under load); the data
-    # folder's size, which may be walked, on a thread.
+    # folder's size on a thread when it must be walked again.
     answer = request.app.state.cluster.health()
-    answer.data_bytes, answer.free_bytes = await asyncio.to_thread(storage.usage, request.app.state.settings.data_dir)
+    data_dir = request.app.state.settings.data_dir
+    answer.data_bytes, answer.free_bytes = storage.fresh_usage(data_dir) or \
+        await asyncio.to_thread(storage.usage, data_dir)
     return proto_json(answer)
