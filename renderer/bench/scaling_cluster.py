@@ -97,8 +97,10 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
     from distributed import Client, LocalCluster, wait
     from rt import job_pb2, render_pb2
 
+    from app.core.config import Settings
     from app.services import layer_files
     from app.services.cluster import RenderWorkerSetup
+    from app.services.data_access import server_access
     from app.services.tile_plan import TileSpec, grid_size, plan_passes, rays_per_pixel
     from app.services.tile_tasks import render_tile
 
@@ -114,10 +116,11 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
 
     # The tasks write their layers, as the service's do.
     scratch = tempfile.TemporaryDirectory(prefix="rt-scaling-")
+    access = server_access(Settings(data_dir=Path(scratch.name)))  # the workers see it: the shared-folder path
     layers = ""
 
     def run_image(client, tiles) -> list[job_pb2.TileResult]:
-        futures = [client.submit(render_tile, scene_key, str(scene_path), request, "bench", "bench", layers, t,
+        futures = [client.submit(render_tile, access, scene_key, str(scene_path), request, "bench", "bench", layers, t,
                                  pure=False)
                    for t in tiles]
         wait(futures)
