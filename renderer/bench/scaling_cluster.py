@@ -99,6 +99,7 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
 
     from app.services import layer_files
     from app.services.cluster import RenderWorkerSetup
+    from app.services.data_access import FOLDER_ID_FILE, DataAccess
     from app.services.tile_plan import TileSpec, grid_size, plan_passes, rays_per_pixel
     from app.services.tile_tasks import render_tile
 
@@ -115,9 +116,15 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
     # The tasks write their layers, as the service's do.
     scratch = tempfile.TemporaryDirectory(prefix="rt-scaling-")
     layers = ""
+    # A data folder the workers see (the service's shared-folder case): they
+    # read the scene from its path and write their tiles into the layer files.
+    data = Path(scratch.name)
+    (data / "jobs").mkdir()
+    (data / FOLDER_ID_FILE).write_text("bench")
+    access = DataAccess(str(data), "bench", "http://unused", "unused")
 
     def run_image(client, tiles) -> list[job_pb2.TileResult]:
-        futures = [client.submit(render_tile, scene_key, str(scene_path), request, "bench", "bench", layers, t,
+        futures = [client.submit(render_tile, access, scene_key, str(scene_path), request, "bench", "bench", layers, t,
                                  pure=False)
                    for t in tiles]
         wait(futures)
@@ -132,7 +139,7 @@ def measure(scene_path: Path, size: int = 1024, repeats: int = 3) -> Throughput:
     for n in (1, 2):
         # The service's full-resolution pass for n threads, in its centre-out order.
         tiles = plan_passes(size, size, n, interactive=False, pixel_rays=pixel_rays)[-1]
-        layers = str(layer_files.create(Path(scratch.name), size, size, grid_size(tiles), []))
+        layers = str(layer_files.create(data / "jobs" / f"bench-{n}", size, size, grid_size(tiles), []))
         with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
                 Client(cluster) as client:
             client.register_plugin(RenderWorkerSetup())  # as the service does: one render thread per Dask thread
