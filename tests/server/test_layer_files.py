@@ -31,6 +31,21 @@ def test_tiles_written_as_blocks_read_back_as_the_image(tmp_path):
     np.testing.assert_array_equal(layer_files.load(tmp_path, "bvh_cost"), cost.astype(np.float32))
 
 
+@pytest.mark.parametrize("width, height, tile", [(48, 36, 48), (100, 20, 64), (40, 100, 64)])
+def test_a_layer_loads_as_a_writable_array_however_few_its_blocks(tmp_path, width, height, tile):
+    """A job of one tile (or one column of them) reads back as an array of
+    its own, as one of many does, not as a view of the read-only file."""
+    folder = layer_files.create(tmp_path, width, height, tile, [])
+    color = np.random.default_rng(3).random((height, width, 3), dtype=np.float32)
+    for y in range(0, height, tile):
+        for x in range(0, width, tile):
+            layer_files.write_tile(folder, x, y, {"color": color[y:y + tile, x:x + tile]})
+    layer_files.complete(tmp_path)
+    image = layer_files.load(tmp_path, "color")
+    assert image.flags.writeable
+    np.testing.assert_array_equal(image, color)
+
+
 def test_a_restarted_run_starts_from_empty_files(tmp_path):
     folder = layer_files.create(tmp_path, 32, 32, 16, [])
     layer_files.write_tile(folder, 16, 16, {"color": np.ones((16, 16, 3), np.float32)})

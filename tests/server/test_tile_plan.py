@@ -6,7 +6,8 @@ import pytest
 from rt import job_pb2, render_pb2, scene_pb2
 
 from app.services.tile_plan import (MAX_TILES, PREVIEW_MIN_PIXELS, PREVIEW_MIN_RAYS_PER_THREAD, PREVIEW_SCALE,
-                                     TILE_RAYS, TILE_SIZES, TILES_PER_THREAD, plan_passes, rays_per_pixel)
+                                     TASK_RAYS_PER_THREAD, TILE_RAYS, TILE_SIZES, TILES_PER_THREAD, plan_passes,
+                                     rays_per_pixel, schedulable_tiles)
 
 
 @pytest.mark.parametrize("width, height, threads", [(1024, 1024, 2), (1600, 1200, 8), (300, 240, 2),
@@ -60,22 +61,50 @@ def test_an_interactive_job_outranks_a_batch_job_and_previews_outrank_full_tiles
 
 @pytest.mark.parametrize("pixel_rays", [1, 2, 17, 64 * 17, 2048 * 2, 1e9])
 @pytest.mark.parametrize("width, height, threads", [(1024, 1024, 2), (1920, 1080, 4), (640, 480, 2),
-                                                    (4096, 4096, 2), (4096, 4096, 1024)])
-def test_tiles_keep_every_thread_busy_within_the_ray_budget_and_the_task_limit(width, height, threads, pixel_rays):
+                                                    (4096, 4096, 2), (4096, 4096, 1024), (3840, 2160, 256)])
+def test_tiles_keep_every_thread_busy_within_the_ray_budget_and_the_task_limits(width, height, threads, pixel_rays):
+    """Enough tiles are two per thread, or as many as the scheduler can hand
+    out while the threads render, if fewer; too many are more than MAX_TILES
+    (unless the threads need them) or than the scheduler can hand out."""
     full = plan_passes(width, height, threads, interactive=False, pixel_rays=pixel_rays)[-1]
     size = max(t.w for t in full)
     count = lambda s: -(-width // s) * -(-height // s)  # noqa: E731
-    enough = TILES_PER_THREAD * threads
+    schedulable = max(1, width * height * pixel_rays / (threads * TASK_RAYS_PER_THREAD))
+    enough = min(TILES_PER_THREAD * threads, schedulable)
+    limit = min(max(MAX_TILES, TILES_PER_THREAD * threads), schedulable)
     assert len(full) == count(size)
     assert len(full) >= enough or size == TILE_SIZES[-1]
     largest_enough = max((s for s in TILE_SIZES if count(s) >= enough), default=TILE_SIZES[-1])
-    assert len(full) <= max(MAX_TILES, enough) or size == largest_enough, "more tasks only when threads need them"
+    assert len(full) <= limit or size == largest_enough, "more tasks only when threads need them"
     smaller = [s for s in TILE_SIZES if s < size]
     within_budget = size * size * pixel_rays <= TILE_RAYS
-    assert within_budget or not smaller or count(smaller[0]) > max(MAX_TILES, enough), \
+    assert within_budget or not smaller or count(smaller[0]) > limit, \
         "over budget only when smaller tiles would be too many"
     # and no larger tile would do as well
     assert all(count(s) < enough or s * s * pixel_rays > TILE_RAYS for s in TILE_SIZES if s > size)
+
+
+def test_a_large_cluster_gets_no_more_tiles_than_the_scheduler_can_hand_out():
+    """A 3840 x 2160 dragon at 16 samples (32 rays a pixel) on 32 workers of 8
+    threads: two tiles a thread would be 2040 tiles of 64, and the scheduler,
+    at about 1.05 ms a task, would take 2.1 s to hand out what the threads
+    render in 0.24 s. It gets 135 tiles of 256 (2.1M rays, over the ray
+    budget; 59 ms on a worker of 8 threads). The same image on one such
+    worker, at 16 samples or one, keeps its plan."""
+    full = plan_passes(3840, 2160, 256, interactive=False, pixel_rays=32)[-1]
+    assert {t.w for t in full if t.x + t.w < 3840} == {256} and len(full) == 135
+    assert schedulable_tiles(3840, 2160, 256, 32) < 135 < TILES_PER_THREAD * 256
+    assert len(plan_passes(3840, 2160, 8, interactive=False, pixel_rays=32)[-1]) == 510  # 128s: the ray budget
+    assert len(plan_passes(3840, 2160, 8, interactive=False, pixel_rays=2)[-1]) == 40    # 512s, within budget
+
+
+def test_the_scheduler_limit_leaves_two_threads_alone_but_for_tiny_images():
+    """On 2 threads the limit can bind only below 4 x 2 x TASK_RAYS_PER_THREAD
+    (64K) rays: a 90 x 90 image at one sample of one light (16.2K rays) is one
+    tile, not 4 of 64; 160 x 120 (38.4K) keeps its 6 tiles of 64."""
+    (full,) = plan_passes(90, 90, 2, interactive=False, pixel_rays=2)
+    assert len(full) == 1 and (full[0].w, full[0].h) == (90, 90)
+    assert len(plan_passes(160, 120, 2, interactive=False, pixel_rays=2)[-1]) == 6
 
 
 def test_a_cheap_image_gets_few_large_tiles_and_an_expensive_one_small_tiles():

@@ -168,6 +168,11 @@ def load(job_folder: Path, name: str, folder: str = COMPLETE) -> np.ndarray:
     blocks = np.load(job_folder / folder / f"{name}.npy", mmap_mode="r")
     rows, columns, tile, _, channels = blocks.shape
     image = blocks.transpose(0, 2, 1, 3, 4).reshape(rows * tile, columns * tile, channels)
+    if not image.flags.writeable:
+        # One column of blocks (a job of one tile, say) reshapes without a
+        # copy, into a view of the read-only file, which bindings that want a
+        # plain array (FLIP's) refuse.
+        image = image.copy()
     return image[:size["height"], :size["width"]]
 
 

@@ -24,10 +24,38 @@ took 4% of the image's CPU in bookkeeping), and an expensive one small tiles,
 so that a tile ends in a fraction of a second: an interactive job waits at
 most that long for a thread, and viewers see the image advance. A job that
 would need more than MAX_TILES such tiles gets fewer, longer ones.
+
+On a large cluster the count of tiles has a ceiling of its own. Dask's
+scheduler handles tasks one at a time, 1.0 to 1.2 ms of its CPU each on this
+machine with 1 to 16 workers of 8 threads (medians, no trend with the
+workers; renderer/bench/dask_costs.py), and the server 0.87 ms per result and
+1.5 ns per byte of its message besides. Two tiles a thread cut a 3840 x 2160
+dragon at 16 samples (32 rays a pixel) on 32 such workers into 2040 tiles of
+64: 2.1 s of scheduling for the 0.24 s each thread renders, 12% efficiency in
+the cluster model (renderer/bench/cluster_model.py,
+docs/charts/scaling_cluster_model.md). So a job gets no more tiles than the
+scheduler can hand out while the threads render them: each must bring every
+thread TASK_RAYS_PER_THREAD rays, over the ray budget if need be. A thread
+renders about 4.5M rays a second (447 ns a pixel of 2 rays), some 5K in the
+scheduler's turn for one task; with 8K, and tile counts that come in steps of
+four, the scheduler is busy for no longer than about the render. 16K (tried
+first) gave the same at 32 workers but too few tiles at 16 (135 instead of
+510: 79% against 90%) and at 64 (40 instead of 135: 20% against 43%). The job
+above gets 135 tiles of 256 (59 ms each on a worker of 8 threads, on
+average) and 59% in the model. What is left is the last round: Dask starts as
+many tiles on a worker as it has threads, all at once, and never steals a
+running one, so tiles are dealt by count, not cost (workers taking a tile at a
+time would give 91%). At one sample the same image is 14 ms of rendering per
+thread at 32 workers: the server's handling of its 33 MB of RGBA8 messages
+and a job's latency bound it whatever the plan (1% before, 15% now). Small
+clusters keep their plans: on 2 threads the limit can bind only below 64K
+rays (a 90 x 90 image at one sample of one light: one tile instead of 4 of
+64), and one worker of 8 threads gets what it got before.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 
@@ -47,6 +75,11 @@ TILE_RAYS = 1 << 20              # a tile's estimated rays: ~0.15 s on 2 cores
 # grows with them, cancelling a graph as their square (4096 tiles sharing a
 # preview took the event loop 1.7 s to cancel).
 MAX_TILES = 1024
+# Dask's scheduler handles tasks one at a time, so a task must bring the
+# cluster enough work to pay for its turn: at least this many rays per thread
+# of the cluster, what a thread renders in about twice the scheduler's time for
+# one task (the module's docstring has the figures).
+TASK_RAYS_PER_THREAD = 8 * 1024
 
 INTERACTIVE_BOOST = 10_000_000
 PREVIEW_BOOST = 1_000_000
@@ -98,12 +131,24 @@ def rays_per_pixel(settings: render_pb2.RenderSettings, lights: Iterable[scene_p
                               for light in lights))
 
 
+def schedulable_tiles(width: int, height: int, threads: int, pixel_rays: float = 1.0) -> float:
+    """How many tasks Dask's scheduler can hand out, one after another, in
+    about the time the cluster's threads take to render the image: each must
+    bring every thread TASK_RAYS_PER_THREAD rays (unlimited when that is 0)."""
+    if not TASK_RAYS_PER_THREAD:
+        return math.inf
+    return width * height * pixel_rays / (max(threads, 1) * TASK_RAYS_PER_THREAD)
+
+
 def full_tile_size(width: int, height: int, threads: int, pixel_rays: float = 1.0) -> int:
     """The largest tile within the ray budget that still gives every thread
-    enough tiles; over budget when the next smaller tile would make more than
-    MAX_TILES tasks (and enough tiles do not need them)."""
-    enough = TILES_PER_THREAD * max(threads, 1)
-    limit = max(MAX_TILES, enough)
+    enough tiles, or the scheduler as many as it can hand out in time if
+    that is fewer; over budget when the next smaller tile would make more than
+    MAX_TILES tasks (and enough tiles do not need them) or more than the
+    scheduler can hand out in time."""
+    schedulable = max(1.0, schedulable_tiles(width, height, threads, pixel_rays))
+    enough = min(TILES_PER_THREAD * max(threads, 1), schedulable)
+    limit = min(max(MAX_TILES, TILES_PER_THREAD * max(threads, 1)), schedulable)
     counts = [_blocks(width, size) * _blocks(height, size) for size in TILE_SIZES]
     for i, size in enumerate(TILE_SIZES):
         if counts[i] < enough:
