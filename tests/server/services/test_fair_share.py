@@ -29,12 +29,12 @@ def test_without_users_the_plan_stands():
 def test_a_newcomer_outranks_every_queued_tile_of_a_flood():
     fair = FairShare(enabled=True)
     running = {f"a{i}" for i in range(100)} | {"b"}
-    flood = [fair.order(f"a{i}", False, flat(plan_passes(64, 64, 2, False)), [f"a{k}" for k in range(i)], running)
+    flood = [fair.order(f"a{i}", False, flat(plan_passes(256, 256, 2, False)), [f"a{k}" for k in range(i)], running)
              for i in range(100)]
     # A user's jobs queue one after the other.
     assert all(min(s.priority for s in flood[i]) > max(s.priority for s in flood[i + 1]) for i in range(99))
     fair.started(flood[0][0], False)
-    newcomer = fair.order("b", False, flat(plan_passes(64, 64, 2, False)), [], running)
+    newcomer = fair.order("b", False, flat(plan_passes(256, 256, 2, False)), [], running)
     queued = [s.priority for job in flood for s in job][1:]
     assert newcomer[0].priority > max(queued)
     # ...and then takes turns with the flood, tile by tile.
