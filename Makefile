@@ -34,7 +34,7 @@ help:
 	@echo "make bench  benchmarks: BVH against Embree, the 2020 report's performance table, the service against rtrender"
 	@echo "make test-compose  build the image and run docker-compose.yml under podman (not in make test)"
 	@echo "make fuzz   the loaders' libFuzzer targets, FUZZ_SECONDS each (crashes kept in build/fuzz/crashes)"
-	@echo "make chaos  worker kills and a scheduler restart during batches, in the multi-process topology (~4 min)"
+	@echo "make chaos  worker kills and a scheduler restart during batches, in the multi-process topology (~2 min)"
 	@echo "make charts speed against accuracy, stability and scaling charts into docs/charts (on a quiet machine)"
 
 # apt packages, installed only when missing.

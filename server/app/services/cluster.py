@@ -20,6 +20,7 @@ import rtcore
 from dask.highlevelgraph import HighLevelGraph, MaterializedLayer
 from distributed import Client, Future, LocalCluster, WorkerPlugin
 from distributed.client import FutureCancelledError
+from distributed.comm.core import CommClosedError
 from rt import job_pb2
 
 from ..core.allocator import keep_freed_memory
@@ -136,12 +137,15 @@ class RenderCluster:
         return self.client.status == "running" and bool(self._scheduler_id)
 
     def lost(self, error: BaseException) -> bool:
-        """Whether a run failed because its scheduler went away (its futures
-        cancelled by Dask for it, or no scheduler to send them to), rather
-        than because of the job itself."""
+        """Whether a run failed because its cluster went away (its futures
+        cancelled by Dask for a lost scheduler, a result's worker gone with
+        it, or no scheduler to send them to), rather than because of the job
+        itself."""
         if isinstance(error, FutureCancelledError):
             return error.reason in (SCHEDULER_LOST, "scheduler-restart")
-        return not self.connected
+        # A result being fetched from a worker that ended with its scheduler,
+        # before the client saw the scheduler go.
+        return isinstance(error, CommClosedError) or not self.connected
 
     async def wait_connected(self) -> None:
         while not self.connected:

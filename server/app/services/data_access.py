@@ -63,7 +63,7 @@ def worker_url(settings: Settings) -> str:
     (this machine's name when bound to every interface)."""
     if settings.server_url:
         return settings.server_url.rstrip("/")
-    host = settings.host if settings.host not in ("0.0.0.0", "::", "") else socket.getfqdn()
+    host = settings.host if settings.host not in ("0.0.0.0", "::", "") else socket.gethostname()
     return f"http://{f'[{host}]' if ':' in host else host}:{settings.port}"
 
 

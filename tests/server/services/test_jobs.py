@@ -75,8 +75,16 @@ def _lose_the_scheduler():
     raise FutureCancelledError("tile", "scheduler-connection-lost")
 
 
+def _lose_the_results_worker():
+    from distributed.comm.core import CommClosedError
+
+    raise CommClosedError("in <TCP (closed) ConnectionPool.gather>: Stream is closed")
+
+
+@pytest.mark.parametrize("loss", [_lose_the_scheduler, _lose_the_results_worker])
 @pytest.mark.parametrize("losses, state", [(1, "DONE"), (3, "FAILED")])
-def test_a_run_its_cluster_lost_runs_again_up_to_three_times(tmp_path, cornell_zip, monkeypatch, losses, state):
+def test_a_run_its_cluster_lost_runs_again_up_to_three_times(tmp_path, cornell_zip, monkeypatch, losses, state,
+                                                              loss):
     """Dask cancels every future when the scheduler goes away: the job runs
     again from scratch once one is back, and fails after its third lost run."""
     with TestClient(create_app(service_settings(tmp_path))) as client:
@@ -86,7 +94,7 @@ def test_a_run_its_cluster_lost_runs_again_up_to_three_times(tmp_path, cornell_z
         def losing_submit(name, tasks, priorities):
             runs.append(name)
             if len(runs) <= losses:
-                tasks = {key: (_lose_the_scheduler,) for key in tasks}
+                tasks = {key: (loss,) for key in tasks}
             return submit(name, tasks, priorities)
 
         monkeypatch.setattr(cluster, "submit", losing_submit)
