@@ -130,6 +130,8 @@ class RenderCluster:
                     log.info("set up the Dask scheduler at %s (%s)", self._address, self._scheduler_id)
             except (OSError, asyncio.TimeoutError) as e:
                 log.warning("no Dask scheduler at %s yet: %r", self._address, e)
+            except Exception:  # whatever a scheduler answers, the server keeps trying
+                log.exception("setting up the Dask scheduler at %s failed; trying again", self._address)
 
     @property
     def connected(self) -> bool:
