@@ -8,7 +8,7 @@
   end with it, too): the server reconnects, and every job completes or fails
   with a reason; none is left queued or running.
 
-The seed is printed (RT_CHAOS_SEED replays a run), and so are the figures.
+The random seed of the kills is printed (RT_CHAOS_SEED replays a run), and so are the figures.
 """
 
 import io
