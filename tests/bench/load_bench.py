@@ -16,10 +16,7 @@ error). Exits 1 when they do not.
 from __future__ import annotations
 
 import argparse
-import os
-import socket
 import statistics
-import subprocess
 import sys
 import tempfile
 import threading
@@ -28,30 +25,7 @@ from collections import defaultdict
 from pathlib import Path
 
 import httpx
-
-ROOT = Path(__file__).resolve().parents[2]
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
-def start_server(data_dir: Path, samples: Path, port: int) -> subprocess.Popen:
-    env = {**os.environ, "RT_DATA_DIR": str(data_dir), "PORT": str(port), "HOST": "127.0.0.1",
-           "PYTHONPATH": str(ROOT / "server"), "RT_SAMPLES_DIR": str(samples)}
-    server = subprocess.Popen([sys.executable, "-m", "app"], env=env, cwd=ROOT, stdout=subprocess.DEVNULL,
-                              stderr=subprocess.DEVNULL)
-    deadline = time.monotonic() + 120
-    while time.monotonic() < deadline:
-        try:
-            if httpx.get(f"http://127.0.0.1:{port}/api/health").json()["workers"]:
-                return server
-        except httpx.HTTPError:
-            time.sleep(0.2)
-    server.kill()
-    sys.exit("load_bench: the server did not start")
+from service_bench import free_port, start_server
 
 
 class Latencies:
@@ -103,7 +77,7 @@ def percentile(values: list[float], share: float) -> float:
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--scenes", type=Path, default=ROOT / "build" / "scenes")
+    parser.add_argument("--scenes", type=Path, default=Path(__file__).resolve().parents[2] / "build" / "scenes")
     parser.add_argument("--clients", type=int, default=50)
     parser.add_argument("--jobs", type=int, default=20, help="jobs each client posts")
     parser.add_argument("--post-p99", type=float, default=250)
@@ -114,7 +88,7 @@ def main() -> int:
         samples.mkdir()
         (samples / "teapot.glb").symlink_to(args.scenes / "teapot.glb")
         port = free_port()
-        server = start_server(Path(folder, "data"), samples, port)
+        server = start_server(Path(folder, "data"), port, RT_SAMPLES_DIR=str(samples))
         try:
             base = f"http://127.0.0.1:{port}"
             scene_id = httpx.get(f"{base}/api/scenes").json()["scenes"][0]["id"]

@@ -53,9 +53,10 @@ def free_port() -> int:
         return s.getsockname()[1]
 
 
-def start_server(data_dir: Path, port: int) -> subprocess.Popen:
+def start_server(data_dir: Path, port: int, **env_vars: str) -> subprocess.Popen:
+    """`python -m app` as make run starts it (with `env_vars` besides), once its cluster has a worker."""
     env = {**os.environ, "RT_DATA_DIR": str(data_dir), "PORT": str(port), "HOST": "127.0.0.1",
-           "PYTHONPATH": str(ROOT / "server")}
+           "PYTHONPATH": str(ROOT / "server"), **env_vars}
     server = subprocess.Popen([sys.executable, "-m", "app"], env=env, cwd=ROOT, stdout=subprocess.DEVNULL,
                               stderr=subprocess.DEVNULL)
     deadline = time.monotonic() + 60
