@@ -16,6 +16,7 @@ from .api.guards import RequestGuards
 from .api.openapi import build_schema
 from .api.routes import cluster, comparisons, health, jobs, references, scenes, users
 from .core.allocator import keep_freed_memory
+from .core.collector import settle_after_startup
 from .core.config import Settings, load_settings
 from .core.log_writer import write_logs_off_the_event_loop
 from .core.security import keep_tokens_out_of_logs
@@ -49,6 +50,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         app.state.jobs = JobManager(settings, app.state.cluster, app.state.scenes, JobStore(settings.database),
                                     app.state.data_access)
         await app.state.jobs.resume()
+        log.info("%d objects made at start-up left out of garbage collection", settle_after_startup())
         try:
             yield
         finally:

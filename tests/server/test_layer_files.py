@@ -109,3 +109,29 @@ def test_smaller_tiles_go_through_the_cache(tmp_path, monkeypatch):
     _write_in_tiles(folder, tile, color)
     assert not any(f & os.O_DIRECT for f in flags)
     _assert_read_back(tmp_path, color)
+
+
+def test_layer_files_are_read_without_python_s_parser(tmp_path, monkeypatch):
+    """numpy reads a .npy header with ast.literal_eval, which CPython 3.11
+    cannot run in two threads at once (gh-106905: a render thread's tile failed
+    with "AST constructor recursion depth mismatch"); tiles are written and
+    layers read without it."""
+    def refuse(*args, **kwargs):
+        raise AssertionError("ast.literal_eval called")
+
+    monkeypatch.setattr("ast.literal_eval", refuse)
+    width, height, tile = 70, 40, 32
+    folder = layer_files.create(tmp_path, width, height, tile, ["depth"])
+    color = np.random.default_rng(11).random((height, width, 3), dtype=np.float32)
+    _write_in_tiles(folder, tile, color)
+    layer_files.replace(tmp_path, "depth", color[..., :1] * 2)
+    layer_files.complete(tmp_path)
+    np.testing.assert_array_equal(layer_files.load(tmp_path, "color"), color)
+    np.testing.assert_array_equal(layer_files.load(tmp_path, "depth")[..., 0], color[..., 0] * 2)
+
+
+def test_a_file_that_is_not_a_layer_file_is_named(tmp_path):
+    folder = layer_files.create(tmp_path, 16, 16, 16, [])
+    (folder / "color.npy").write_bytes(b"\x93NUMPY\x01\x00\x10\x00{'descr': '<i8'}")
+    with pytest.raises(ValueError, match="color.npy: not a layer file"):
+        layer_files.write_tile(folder, 0, 0, {"color": np.zeros((16, 16, 3), np.float32)})

@@ -55,6 +55,8 @@ class JobRemoval:
         after saving the records a full disk kept in memory."""
         for job in list(self._unsaved.values()):
             self._save_ended(job)
+        if not retention.applies(self._settings):  # spares each job's end a thread's round trip
+            return
         gone = await asyncio.to_thread(retention.expired, self._settings, self._store, self._scenes, time.time())
         for job_id in gone:
             if job_id not in self._running:  # none is, unless one was resumed meanwhile

@@ -33,6 +33,7 @@ import errno
 import json
 import mmap
 import os
+import re
 import shutil
 import threading
 from pathlib import Path
@@ -83,6 +84,34 @@ def _aligned_header(shape: tuple[int, ...]) -> bytes:
     return np.lib.format.magic(1, 0) + length.to_bytes(2, "little") + text.ljust(length - 1) + b"\n"
 
 
+# What _aligned_header (and numpy, for files of earlier versions) writes.
+_HEADER_SHAPE = re.compile(rb"\{'descr': '<f4', 'fortran_order': False, 'shape': \(([0-9, ]*)\),? *\}")
+
+
+def _read_header(f) -> tuple[tuple[int, ...], int]:
+    """A layer file's shape of blocks, and where its floats start.
+
+    numpy's own reader evaluates the header with ast.literal_eval, and
+    CPython 3.11's AST constructor keeps its recursion depth per interpreter,
+    not per thread: two render threads writing tiles at once failed a tile with
+    "SystemError: AST constructor recursion depth mismatch" (gh-106905), about
+    one job in a few thousand under load. These headers are ours, so a pattern
+    reads them."""
+    magic = f.read(10)
+    match = _HEADER_SHAPE.fullmatch(f.read(int.from_bytes(magic[8:10], "little")).rstrip(b" \n")) \
+        if magic[:8] == np.lib.format.magic(1, 0) else None
+    if match is None:
+        raise ValueError(f"{f.name}: not a layer file")
+    return tuple(int(n) for n in match.group(1).split(b",") if n.strip()), f.tell()
+
+
+def _blocks(path: Path, mode: str) -> np.memmap:
+    """A layer file's blocks, mapped (mode "r" or "r+")."""
+    with open(path, "rb") as f:
+        shape, start = _read_header(f)
+    return np.memmap(path, np.float32, mode, offset=start, shape=shape)
+
+
 _staging = threading.local()
 
 
@@ -123,10 +152,9 @@ def write_tile(folder: str | Path, x: int, y: int, layers: dict[str, np.ndarray]
     for name, values in layers.items():
         path = Path(folder) / f"{name}.npy"
         with open(path, "rb") as f:
-            np.lib.format.read_magic(f)
-            (_, columns, tile, _, channels), _, _ = np.lib.format.read_array_header_1_0(f)
-            block = _staging_block((tile, tile, channels))
-            offset = f.tell() + ((y // tile) * columns + x // tile) * block.nbytes
+            (_, columns, tile, _, channels), start = _read_header(f)
+        block = _staging_block((tile, tile, channels))
+        offset = start + ((y // tile) * columns + x // tile) * block.nbytes
         h, w = values.shape[:2]
         block[:h, :w] = values.reshape(h, w, channels)
         block[h:] = 0  # an edge tile fills the top left of its block
@@ -165,7 +193,7 @@ def load(job_folder: Path, name: str, folder: str = COMPLETE) -> np.ndarray:
         with np.load(legacy) as saved:
             return saved[name]
     size = json.loads((job_folder / folder / LAYOUT).read_text())
-    blocks = np.load(job_folder / folder / f"{name}.npy", mmap_mode="r")
+    blocks = _blocks(job_folder / folder / f"{name}.npy", "r")
     rows, columns, tile, _, channels = blocks.shape
     image = blocks.transpose(0, 2, 1, 3, 4).reshape(rows * tile, columns * tile, channels)
     if not image.flags.writeable:
@@ -178,7 +206,7 @@ def load(job_folder: Path, name: str, folder: str = COMPLETE) -> np.ndarray:
 
 def replace(job_folder: Path, name: str, image: np.ndarray, folder: str = PARTIAL) -> None:
     """Writes a whole layer (the last pass's results) over the one in the files."""
-    blocks = np.load(job_folder / folder / f"{name}.npy", mmap_mode="r+")
+    blocks = _blocks(job_folder / folder / f"{name}.npy", "r+")
     rows, columns, tile, _, channels = blocks.shape
     padded = np.zeros((rows * tile, columns * tile, channels), np.float32)
     padded[:image.shape[0], :image.shape[1]] = image.reshape(image.shape[0], image.shape[1], channels)

@@ -27,9 +27,14 @@ PERIOD_SECONDS = 3600.0
 log = logging.getLogger("rt.retention")
 
 
+def applies(settings: Settings) -> bool:
+    """Whether a policy is set: without one every job is kept."""
+    return bool(settings.keep_jobs or settings.keep_days)
+
+
 def expired(settings: Settings, store: JobStore, scenes: SceneStore, now: float) -> list[str]:
     """The ids of the jobs the policy removes now, oldest last."""
-    if not settings.keep_jobs and not settings.keep_days:
+    if not applies(settings):
         return []
     cutoff = now - settings.keep_days * DAY_SECONDS if settings.keep_days else None
     references = reference_ids(scenes)

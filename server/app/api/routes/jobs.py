@@ -4,10 +4,10 @@ layers, and the live tile stream over WebSocket."""
 from __future__ import annotations
 
 from fastapi import APIRouter, Depends, Query, Request, WebSocket, WebSocketDisconnect
-from fastapi.responses import FileResponse, Response
+from fastapi.responses import FileResponse, JSONResponse, Response
 from rt import job_pb2
 
-from ...core.proto import json_body, json_response
+from ...core.proto import json_body, json_response, to_dict
 from ...core.security import identify
 from ...services import ownership
 from ...services.errors import NotFound
@@ -43,7 +43,8 @@ async def submit_job(request: Request, manager: JobManager = Depends(jobs), owne
 def list_jobs(offset: int = Query(0, ge=0, le=MAX_INDEX), limit: int = Query(20, ge=1, le=200),
               manager: JobManager = Depends(jobs), owner: str = Depends(user)):
     page, total = manager.page(offset, limit, owner)
-    return proto_json(job_pb2.JobList(jobs=page, total=total, offset=offset))
+    # Job by job, so that each record's JSON is the one answered before (core.proto.to_dict).
+    return JSONResponse({**to_dict(job_pb2.JobList(total=total, offset=offset)), "jobs": [to_dict(j) for j in page]})
 
 
 @router.get("/legends/bvh_cost.png", response_class=Response,
