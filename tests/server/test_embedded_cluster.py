@@ -44,3 +44,16 @@ def test_the_rest_of_the_process_keeps_dask_defaults(client):
 
     assert dask.config.get("distributed.scheduler.work-stealing") is True
     assert dask.config.get("distributed.worker.profile.enabled") is True
+
+
+def test_the_embedded_worker_holds_two_tiles_at_a_time(client):
+    """tile_slots.TileSlots, registered on every scheduler the server sets up,
+    the embedded one's too."""
+    from distributed.scheduler import _task_slots_available
+
+    from app.services.tile_slots import TILES_PER_WORKER
+
+    local = client.app.state.cluster._local
+    (worker,) = local.scheduler.workers.values()
+    assert "rt-tile-slots" in local.scheduler.plugins
+    assert _task_slots_available(worker, local.scheduler.WORKER_SATURATION) == TILES_PER_WORKER
