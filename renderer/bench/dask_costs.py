@@ -1,7 +1,9 @@
 """What Dask costs per tile task on this machine, measured as the job service
 spends it: a real `dask scheduler` process and `dask worker` processes of 8
-threads (as tests/cluster/topology.py starts them), one graph per job sent by
-RenderCluster.submit with the plan's priorities, and each result handled as
+threads (as tests/cluster/topology.py starts them), set up as the server sets
+up a scheduler it joins (RenderCluster._set_up: tiles dealt two a worker,
+tile_slots.py), one graph per job sent by RenderCluster.submit with the plan's
+priorities, and each result handled as
 JobManager._run handles it (awaited, its message published on a TileStream,
 the job record updated and published). The tasks do nearly nothing (they
 answer a TileResult carrying a tile's RGBA8 message), so what is left is
@@ -161,6 +163,7 @@ async def _measure_cluster(workers: int, tasks: int, repeats: int, small: int, l
         try:
             await client.wait_for_workers(workers, timeout=180)
             cluster = RenderCluster(client, None, procs.address)
+            await cluster._set_up()  # noqa: SLF001  (as the service sets up a scheduler: tiles dealt as it has them)
             await _run_job(cluster, "warm", min(tasks, 200), small)
             await asyncio.sleep(1.0)
             before, idle_start = procs.cpu([procs.scheduler]), time.perf_counter()

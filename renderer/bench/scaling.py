@@ -9,20 +9,19 @@ the default settings: the BVH build on one thread and on all, the render on all,
 and the BVH nodes visited and triangles tested per ray (rtcore's bvh_cost
 layer over every ray traced). The dragons are one shape at four tessellations,
 so their traversal cost is fitted to a + b log2(triangles). The cluster model
-(cluster_model.py) projects a 3840x2160 dragon onto 1 to 64 workers of 8
-threads from Dask's and the renderer's costs measured here, with the tile plan
-before and after its scheduler limit. Writes scaling_triangles,
-scaling_report_table, scaling_throughput and scaling_cluster_model (PNG, CSV,
-Markdown) into --out and the chart index's scaling section (--only
-cluster_model: that chart alone, the others kept).
+(cluster_model.py, drawn by cluster_model_chart.py) projects a 3840x2160
+dragon onto 1 to 64 workers of 8 threads from Dask's and the renderer's costs
+measured here, with the tile plan and Dask's dealing of tiles before and now.
+Writes scaling_triangles, scaling_report_table, scaling_throughput and
+scaling_cluster_model (PNG, CSV, Markdown) into --out and the chart index's
+scaling section (--only cluster_model: that chart alone, the others kept;
+--reuse-costs: on the costs it measured last, kept beside the chart).
 """
 
 from __future__ import annotations
 
 import argparse
-import contextlib
 import csv
-import dataclasses
 import sys
 from pathlib import Path
 
@@ -37,14 +36,11 @@ import rtcore  # noqa: E402
 from rt import charts_pb2, render_pb2  # noqa: E402
 
 import chart_index  # noqa: E402
-import cluster_model  # noqa: E402
-import dask_costs  # noqa: E402
+import cluster_model_chart  # noqa: E402
 import report_table  # noqa: E402
 import scaling_cluster  # noqa: E402
-import tile_costs  # noqa: E402
 from accuracy_measure import machine_info  # noqa: E402
-from app.services import tile_plan  # noqa: E402  (scaling_cluster puts server/ on the path)
-from app.services.tile_plan import TILES_PER_THREAD  # noqa: E402
+from app.services.tile_plan import TILES_PER_THREAD  # noqa: E402  (scaling_cluster puts server/ on the path)
 
 SCENES = ["cornell.obj", "cornell_sphere_light.obj", "smooth_sphere.glb", "bunny.glb", "teapot.glb", "donut.glb",
           "dragon_4.glb", "dragon_3.glb", "dragon_2.glb", "dragon_1.glb"]
@@ -243,137 +239,6 @@ def throughput_chart(t: scaling_cluster.Throughput, machine: dict, out: Path) ->
                             headline=headline, table=table)
 
 
-# The jobs the cluster model projects: the viewer's default (one sample, an
-# interactive job) and a final render (the README's anti-aliasing example, 16
-# samples, as a batch job).
-MODEL_JOBS = (("1 spp, interactive", 1, True), ("16 spp, batch", 16, False))
-MODEL_SIZE = (3840, 2160)
-
-
-@contextlib.contextmanager
-def plan_before_scheduler_limit():
-    """tile_plan as it was before the scheduler limit (issue 18): tiles
-    counted per thread only."""
-    saved = tile_plan.TASK_RAYS_PER_THREAD
-    tile_plan.TASK_RAYS_PER_THREAD = 0
-    try:
-        yield
-    finally:
-        tile_plan.TASK_RAYS_PER_THREAD = saved
-
-
-def measure_cluster_model(scenes: Path, quick: bool) -> tuple[dask_costs.DaskCosts, list[tile_costs.RenderCosts]]:
-    """Dask's costs on a real scheduler and the dragon's render costs for each
-    modelled job (quick: few tasks, small images read as if full size)."""
-    dask = dask_costs.measure((1,), tasks=100, repeats=1, large=128) if quick else dask_costs.measure()
-    scene = scenes / ("dragon_3.glb" if quick else "dragon_1.glb")
-    renders = [tile_costs.measure(scene, *MODEL_SIZE, samples=samples, repeats=1 if quick else 3,
-                                  scale=(16 if samples == 1 else 32) if quick else (1 if samples == 1 else 4))
-               for _, samples, _ in MODEL_JOBS]
-    return dask, renders
-
-
-def model_costs(dask: dask_costs.DaskCosts, render: tile_costs.RenderCosts,
-                interactive: bool) -> cluster_model.ClusterCosts:
-    return cluster_model.ClusterCosts(
-        width=render.width, height=render.height, pixel_rays=render.pixel_rays, interactive=interactive,
-        pixel_s=render.pixel_s.median, tile_s=render.tile_s.median + dask.worker_s[min(dask.worker_s)].median,
-        encode_s_per_pixel=render.encode_s_per_pixel, preview_factor=render.preview_factor,
-        scheduler_s={n: s.median for n, s in dask.scheduler_s.items()}, server_s=dask.server_s.median,
-        server_s_per_byte=dask.server_s_per_byte, latency_s=dask.latency_s.median,
-        threads_per_worker=dask_costs.THREADS_PER_WORKER, cost_map=render.cost_map, cell=render.cell)
-
-
-def measured_inputs_text(dask: dask_costs.DaskCosts, renders: list[tile_costs.RenderCosts]) -> str:
-    """The measured inputs, medians and ranges, for the chart's page."""
-    sched = "; ".join(f"{n} worker{'s' * (n > 1)}: {s.text(1e6, 'us')}" for n, s in dask.scheduler_s.items())
-    work = "; ".join(f"{n}: {s.text(1e6, 'us')}" for n, s in dask.worker_s.items())
-    lines = [f"Dask scheduler CPU per task (jobs of {dask.tasks} no-op tasks, median (range)): {sched}.",
-             f"Server CPU per result: {dask.server_small_s.text(1e6, 'us')} with a {dask.small_side}x"
-             f"{dask.small_side} tile's message, {dask.server_large_s.text(1e6, 'us')} with a {dask.large_side}x"
-             f"{dask.large_side} one: {dask.server_s.median * 1e6:.0f} us + {dask.server_s_per_byte * 1e9:.2f} ns "
-             f"per message byte.",
-             f"Workers' CPU per task, summed over the workers (idle workers' upkeep included): {work}.",
-             f"A one-task job's latency: {dask.latency_s.text(1e3, 'ms')}."]
-    for (label, samples, _), r in zip(MODEL_JOBS, renders):
-        size = f"{r.width // r.measured_scale}x{r.height // r.measured_scale}"
-        lines.append(f"{r.scene}, {label} ({r.pixel_rays:g} rays a pixel), rendered at {size} on one thread: "
-                     f"{r.pixel_s.text(1e9, 'ns')} of CPU per pixel, {r.render_s.text(1, 's')} per image; a "
-                     f"preview pixel {r.preview_factor:.2f}x a full one; a 1x1 tile {r.tile_s.text(1e3, 'ms')}; "
-                     f"sRGB encoding {r.encode_s_per_pixel * 1e9:.1f} ns per pixel; cost map of "
-                     f"{r.cost_map.shape[1]}x{r.cost_map.shape[0]} cells from {r.cost_map.min():.2f} to "
-                     f"{r.cost_map.max():.2f} times the mean.")
-    return " ".join(lines)
-
-
-def cluster_model_chart(dask: dask_costs.DaskCosts, renders: list[tile_costs.RenderCosts], machine: dict,
-                        out: Path) -> tuple[charts_pb2.Chart, str]:
-    width, height = MODEL_SIZE
-    fig, axes = plt.subplots(1, 2, figsize=(13, 5))
-    counts = list(cluster_model.WORKER_COUNTS)
-    axes[0].plot(counts, counts, linestyle=":", color="#999", label="ideal")
-    axes[1].plot(counts, [100] * len(counts), linestyle=":", color="#999", label="ideal")
-    axes[1].axhline(80, color="#d62728", linewidth=0.6, alpha=0.6)
-    rows, results = [], {}
-    for (label, _, interactive), render, color in zip(MODEL_JOBS, renders, ("#1f77b4", "#2ca02c")):
-        costs = model_costs(dask, render, interactive)
-        with plan_before_scheduler_limit():
-            before = cluster_model.scaling(costs)
-        after = cluster_model.scaling(costs)
-        # What the same plan would give if each worker took its next tile only
-        # when free, instead of Dask starting as many as it has threads at once.
-        one_at_a_time = cluster_model.scaling(dataclasses.replace(costs, slots_per_worker=1))
-        results[label] = (before, after, one_at_a_time)
-        for plan, found, style in (("before", before, "--"), ("after", after, "-"),
-                                   ("after, a tile a worker at a time", one_at_a_time, ":")):
-            name = f"{label}, plan {plan}"
-            axes[0].plot(counts, [r.speedup for r in found], linestyle=style, marker="o", markersize=4,
-                         color=color, label=name)
-            axes[1].plot(counts, [100 * r.efficiency for r in found], linestyle=style, marker="o", markersize=4,
-                         color=color, label=name)
-            rows += [[label, plan, *cells] for cells in cluster_model.table_rows(found)]
-    for ax, what in ((axes[0], "speed-up against one worker"), (axes[1], "efficiency (%)")):
-        ax.set_xscale("log", base=2)
-        ax.set_xlabel("workers of 8 threads")
-        ax.set_ylabel(what)
-        ax.grid(True, which="both", linewidth=0.3, alpha=0.6)
-        ax.legend(fontsize=7)
-    axes[0].set_yscale("log", base=2)
-    axes[1].set_ylim(0, 110)
-    axes[0].set_title(f"{renders[0].scene}, {width}x{height}: modelled from Dask's and the renderer's costs "
-                      "measured here", fontsize=8)
-    axes[1].set_title("before: 2 tiles a thread; after: the scheduler's limit; dotted: a tile a worker at a time",
-                      fontsize=8)
-    fig.suptitle("Cluster scale on paper: a 4K dragon on 1 to 64 Dask workers")
-    chart_index.save_figure(fig, machine, out / "scaling_cluster_model.png")
-
-    def at(label: str, workers: int) -> list[cluster_model.Row]:
-        return [next(r for r in found if r.modelled.workers == workers) for found in results[label]]
-
-    final, default = MODEL_JOBS[1][0], MODEL_JOBS[0][0]
-    (fb, fa, fo), (db, da, _) = at(final, 32), at(default, 32)
-    headline = (f"At 32 workers of 8 threads a {width}x{height} {renders[1].scene} at {final} runs at "
-                f"{100 * fb.efficiency:.0f}% efficiency with the old plan ({fb.modelled.tiles} tiles of "
-                f"{fb.modelled.tile_side}, {fb.modelled.bound}-bound) and {100 * fa.efficiency:.0f}% with the new "
-                f"({fa.modelled.tiles} tiles of {fa.modelled.tile_side}, {fa.modelled.bound}-bound: Dask starts "
-                f"8 tiles on each worker at once, so the last round is uneven), {100 * fo.efficiency:.0f}% if workers took a tile at a time; "
-                f"at {default} {100 * db.efficiency:.0f}% -> {100 * da.efficiency:.0f}% ({da.modelled.bound}-bound: "
-                f"{renders[0].pixel_s.median * width * height / 256 * 1e3:.0f} ms of rendering per thread)")
-    table = chart_index.table(["job", "plan", *cluster_model.TABLE_COLUMNS], rows)
-    chart = charts_pb2.Chart(slug="scaling_cluster_model", title="Cluster scale on paper: a 4K dragon on 1 to 64 "
-                             "Dask workers", headline=headline, table=table)
-    text = (" " + (cluster_model.__doc__ or "").split("\n\n", 1)[0].replace("\n", " ") + " Measured inputs: "
-            + measured_inputs_text(dask, renders)
-            + " The before plan is tile_plan.py with TASK_RAYS_PER_THREAD 0 (no scheduler limit).")
-    return chart, text
-
-
-# The cluster model's page: its inputs are CPU times, not the section's wall clock.
-CLUSTER_MODEL_SUMMARY = ("Modelled by renderer/bench/cluster_model.py from costs measured by dask_costs.py and "
-                         "tile_costs.py in CPU seconds of each process (steadier than wall time on shared cores), "
-                         "medians of 3 runs with their ranges.")
-
-
 def write_pages(chart: charts_pb2.Chart, summary: str, machine: dict, out: Path, extra: str = "") -> None:
     with (out / f"{chart.slug}.csv").open("w", newline="") as f:
         writer = csv.writer(f)
@@ -412,6 +277,8 @@ def main() -> int:
                         help="only redraw scaling_report_table.png in --out from its CSV (no measuring)")
     parser.add_argument("--only", choices=["cluster_model"],
                         help="measure and write only this chart, keeping the section's others")
+    parser.add_argument("--reuse-costs", action="store_true",
+                        help="model the cluster from the costs the last run measured (in --out) instead of measuring")
     args = parser.parse_args()
     if args.replot:
         replot_report_table(args.out, *((160, 120) if args.quick else (800, 600)))
@@ -424,9 +291,11 @@ def main() -> int:
     summary = ("Measured by renderer/bench/scaling.py through rtcore and rtrender; times are wall clock, the "
                "median of 3 after a warm-up (of 5 for the Dask runs, the noisiest).")
     if args.only == "cluster_model":
-        chart, text = cluster_model_chart(*measure_cluster_model(args.scenes, args.quick), machine, args.out)
+        dask, renders, machine = cluster_model_chart.measure(args.scenes, args.quick, args.out, machine,
+                                                             args.reuse_costs)
+        chart, text = cluster_model_chart.chart(dask, renders, machine, args.out)
         print(chart.headline, flush=True)
-        write_pages(chart, CLUSTER_MODEL_SUMMARY, machine, args.out, text)
+        write_pages(chart, cluster_model_chart.SUMMARY, machine, args.out, text)
         put_chart(args.out, chart, summary, machine)
         return 0
     scenes = ["cornell.obj", "dragon_4.glb", "dragon_3.glb"] if args.quick else SCENES
@@ -450,12 +319,13 @@ def main() -> int:
     print(charts[-1].headline, flush=True)
     model = (" " + (scaling_cluster.__doc__ or "").split("\n\n", 1)[1].replace("\n", " ").replace("  ", " ")
              + " Measured: " + scaling_cluster.model_text(throughput) + ".")
-    chart, cluster_text = cluster_model_chart(*measure_cluster_model(args.scenes, args.quick), machine, args.out)
+    dask, renders, _ = cluster_model_chart.measure(args.scenes, args.quick, args.out, machine)
+    chart, cluster_text = cluster_model_chart.chart(dask, renders, machine, args.out)
     charts.append(chart)
     print(charts[-1].headline, flush=True)
     extra = {"scaling_throughput": model, "scaling_cluster_model": cluster_text}
     for chart in charts:
-        write_pages(chart, CLUSTER_MODEL_SUMMARY if chart.slug == "scaling_cluster_model" else summary, machine,
+        write_pages(chart, cluster_model_chart.SUMMARY if chart.slug == "scaling_cluster_model" else summary, machine,
                     args.out, extra.get(chart.slug, ""))
     chart_index.put_section(args.out, charts_pb2.ChartSection(
         key="scaling", title="Scaling", summary=summary + (" Quick mode: a test of the script." if args.quick else ""),

@@ -92,3 +92,31 @@ def test_the_service_plan_is_used_unless_tiles_are_given():
     c = costs(width=1024, height=1024, threads_per_worker=8)
     planned = [t for p in plan_passes(1024, 1024, 16, False, 1) for t in p]
     assert cm.model(c, 2).tiles == len(planned)
+
+
+def test_two_tiles_a_worker_dealt_as_slots_free():
+    """32 tasks, every fourth 0.4 s and the rest 0.05 s, on 4 workers (as
+    renderer/bench/dask_dealing.py sent them to a real scheduler). Two a
+    worker: the long ones spread out, and a worker that takes one holds the
+    next behind it; 1.25 s, 11, 9, 7 and 5 tasks a worker, as measured. Dask's
+    default sends all 32 at once, 8 to each worker, one of which gets every
+    long one: 3.2 s."""
+    seconds = [0.4 if i % 4 == 0 else 0.05 for i in range(32)]
+    dealt = cm.deal(seconds, 4, 2)
+    assert max(end for _, _, end in dealt) == pytest.approx(1.25)
+    assert sorted((sum(1 for w, _, _ in dealt if w == k) for k in range(4)), reverse=True) == [11, 9, 7, 5]
+    assert cm.dealing_slots("dask", 32, 4, 8) == float("inf")
+    assert max(end for _, _, end in cm.deal(seconds, 4, cm.dealing_slots("dask", 32, 4, 8))) == pytest.approx(3.2)
+
+
+def test_dask_queues_a_group_of_more_tasks_than_twice_the_threads_nine_a_worker():
+    assert cm.dealing_slots("dask", 65, 4, 8) == 9
+    assert cm.dealing_slots("service", 65, 4, 8) == cm.dealing_slots("service", 3, 64, 8) == 2
+
+
+def test_a_task_waiting_for_another_is_dealt_once_that_one_ends():
+    """One worker, two slots: a (1 s), then b waiting for a, then c. b cannot
+    be queued before a ends, so c takes the free slot first: a 0-1, c 1-1.5,
+    b 1.5-2."""
+    dealt = cm.deal([1.0, 0.5, 0.5], 1, 2, after=[None, 0, None])
+    assert [(start, end) for _, start, end in dealt] == [(0.0, 1.0), (1.5, 2.0), (1.0, 1.5)]

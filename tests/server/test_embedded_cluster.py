@@ -56,3 +56,15 @@ def test_the_objects_made_at_start_up_are_left_out_of_garbage_collection(client)
     assert gc.get_freeze_count() > 10_000
     assert gc.get_threshold() == THRESHOLDS
 
+
+def test_the_embedded_worker_holds_two_tiles_at_a_time(client):
+    """tile_slots.TileSlots, registered on every scheduler the server sets up,
+    the embedded one's too."""
+    from distributed.scheduler import _task_slots_available
+
+    from app.services.tile_slots import TILES_PER_WORKER
+
+    local = client.app.state.cluster._local
+    (worker,) = local.scheduler.workers.values()
+    assert "rt-tile-slots" in local.scheduler.plugins
+    assert _task_slots_available(worker, local.scheduler.WORKER_SATURATION) == TILES_PER_WORKER

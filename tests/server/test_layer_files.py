@@ -31,6 +31,26 @@ def test_tiles_written_as_blocks_read_back_as_the_image(tmp_path):
     np.testing.assert_array_equal(layer_files.load(tmp_path, "bvh_cost"), cost.astype(np.float32))
 
 
+def test_tiles_of_two_sizes_are_written_as_the_blocks_they_cover(tmp_path):
+    """Where the plan cut the middle tiles in four (800 x 600 on 8 threads:
+    three of its four tiles of 512 cut to 256, edge tiles of both), the blocks
+    are the quarters' and a larger tile is written as each of the blocks it
+    covers."""
+    width, height = 800, 600
+    full = plan_passes(width, height, 8, interactive=False)[-1]
+    assert grid_size(full) == 256 and any(t.w > 256 for t in full)
+    folder = layer_files.create(tmp_path, width, height, grid_size(full), ["depth"])
+    rng = np.random.default_rng(11)
+    color = rng.random((height, width, 3), dtype=np.float32)
+    depth = rng.random((height, width), dtype=np.float32)
+    for t in full:
+        window = (slice(t.y, t.y + t.h), slice(t.x, t.x + t.w))
+        layer_files.write_tile(folder, t.x, t.y, {"color": color[window], "depth": depth[window]})
+    layer_files.complete(tmp_path)
+    np.testing.assert_array_equal(layer_files.load(tmp_path, "color"), color)
+    np.testing.assert_array_equal(layer_files.load(tmp_path, "depth")[..., 0], depth)
+
+
 @pytest.mark.parametrize("width, height, tile", [(48, 36, 48), (100, 20, 64), (40, 100, 64)])
 def test_a_layer_loads_as_a_writable_array_however_few_its_blocks(tmp_path, width, height, tile):
     """A job of one tile (or one column of them) reads back as an array of

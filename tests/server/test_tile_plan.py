@@ -1,13 +1,14 @@
 """How a job is cut into tiles: passes, coverage, the preview's pixels reused,
 and tile sizes that follow the work per pixel."""
 
+import numpy as np
 import pytest
 
 from rt import job_pb2, render_pb2, scene_pb2
 
 from app.services.tile_plan import (MAX_TILES, PREVIEW_MIN_PIXELS, PREVIEW_MIN_RAYS_PER_THREAD, PREVIEW_SCALE,
-                                     TASK_RAYS_PER_THREAD, TILE_RAYS, TILE_SIZES, TILES_PER_THREAD, plan_passes,
-                                     rays_per_pixel, schedulable_tiles)
+                                     TASK_RAYS_PER_THREAD, TILE_RAYS, TILE_SIZES, TILES_PER_THREAD, grid_size,
+                                     plan_passes, rays_per_pixel, schedulable_tiles)
 
 
 @pytest.mark.parametrize("width, height, threads", [(1024, 1024, 2), (1600, 1200, 8), (300, 240, 2),
@@ -59,52 +60,131 @@ def test_an_interactive_job_outranks_a_batch_job_and_previews_outrank_full_tiles
     assert min(t.priority for t in batch[0]) > max(t.priority for t in batch[1])
 
 
-@pytest.mark.parametrize("pixel_rays", [1, 2, 17, 64 * 17, 2048 * 2, 1e9])
-@pytest.mark.parametrize("width, height, threads", [(1024, 1024, 2), (1920, 1080, 4), (640, 480, 2),
-                                                    (4096, 4096, 2), (4096, 4096, 1024), (3840, 2160, 256)])
-def test_tiles_keep_every_thread_busy_within_the_ray_budget_and_the_task_limits(width, height, threads, pixel_rays):
-    """Enough tiles are two per thread, or as many as the scheduler can hand
-    out while the threads render, if fewer; too many are more than MAX_TILES
-    (unless the threads need them) or than the scheduler can hand out."""
-    full = plan_passes(width, height, threads, interactive=False, pixel_rays=pixel_rays)[-1]
-    size = max(t.w for t in full)
-    count = lambda s: -(-width // s) * -(-height // s)  # noqa: E731
+def limits(width: int, height: int, threads: int, pixel_rays: float) -> tuple[float, float, bool]:
+    """Enough tiles, too many, and whether the scheduler sets that limit, worked out from the constants."""
     schedulable = max(1, width * height * pixel_rays / (threads * TASK_RAYS_PER_THREAD))
     enough = min(TILES_PER_THREAD * threads, schedulable)
     limit = min(max(MAX_TILES, TILES_PER_THREAD * threads), schedulable)
-    assert len(full) == count(size)
-    assert len(full) >= enough or size == TILE_SIZES[-1]
-    largest_enough = max((s for s in TILE_SIZES if count(s) >= enough), default=TILE_SIZES[-1])
-    assert len(full) <= limit or size == largest_enough, "more tasks only when threads need them"
-    smaller = [s for s in TILE_SIZES if s < size]
-    within_budget = size * size * pixel_rays <= TILE_RAYS
-    assert within_budget or not smaller or count(smaller[0]) > limit, \
+    return enough, limit, schedulable < max(MAX_TILES, TILES_PER_THREAD * threads)
+
+
+def cut_tiles(full: list, width: int, height: int, edge: int) -> list[tuple[int, int, int, int]]:
+    """The tiles of the grid of `edge` that `full` has cut in four, asserting
+    that it is that grid with some tiles cut so."""
+    tiles = {(t.x, t.y, t.w, t.h) for t in full}
+    assert len(tiles) == len(full)
+    cut = []
+    for y in range(0, height, edge):
+        for x in range(0, width, edge):
+            w, h = min(edge, width - x), min(edge, height - y)
+            if (x, y, w, h) in tiles:
+                tiles.remove((x, y, w, h))
+                continue
+            half = edge // 2
+            quarters = {(qx, qy, min(half, x + w - qx), min(half, y + h - qy))
+                        for qy in range(y, y + h, half) for qx in range(x, x + w, half)}
+            assert quarters <= tiles, f"the tile at {x}, {y} is neither whole nor cut in four"
+            tiles -= quarters
+            cut.append((x, y, w, h))
+    assert not tiles, "every tile is one of the grid's or a quarter of one"
+    return cut
+
+
+@pytest.mark.parametrize("pixel_rays", [1, 2, 17, 64 * 17, 2048 * 2, 1e9])
+@pytest.mark.parametrize("width, height, threads", [(1024, 1024, 2), (1920, 1080, 4), (640, 480, 2),
+                                                    (4096, 4096, 2), (4096, 4096, 1024), (3840, 2160, 256),
+                                                    (3840, 2160, 512)])
+def test_tiles_keep_every_thread_busy_within_the_ray_budget_and_the_task_limits(width, height, threads, pixel_rays):
+    """Enough tiles are two per thread, or as many as the scheduler can hand
+    out while the threads render, if fewer; too many are more than MAX_TILES
+    (unless the threads need them) or than the scheduler can hand out. Where
+    the scheduler's limit falls between two tile sizes, the larger is taken
+    and its middle tiles cut in four up to the limit."""
+    full = plan_passes(width, height, threads, interactive=False, pixel_rays=pixel_rays)[-1]
+    grid = max(max(t.w, t.h) for t in full)  # the uncut tiles' edge
+    count = lambda s: -(-width // s) * -(-height // s)  # noqa: E731
+    enough, limit, scheduler_limited = limits(width, height, threads, pixel_rays)
+    cut = cut_tiles(full, width, height, grid)
+    finer_too_many = grid == TILE_SIZES[-1] or count(grid // 2) > limit
+    within_budget = grid * grid * pixel_rays <= TILE_RAYS
+    if scheduler_limited and finer_too_many:
+        assert len(full) <= limit or count(grid) > limit, "no more than the scheduler can hand out"
+        if (count(grid) < enough or not within_budget) and grid > TILE_SIZES[-1]:
+            assert len(full) > limit - 3 or count(grid) > limit - 3, "as many cut as the scheduler has room for"
+        centre = lambda r: ((r[0] + r[2] / 2 - width / 2) ** 2 + (r[1] + r[3] / 2 - height / 2) ** 2)  # noqa: E731
+        kept = [(t.x, t.y, t.w, t.h) for t in full if max(t.w, t.h) == grid]
+        assert all(centre(c) <= centre(k) for c in cut for k in kept), "the middle tiles are cut"
+    else:
+        assert not cut, "cut only where the scheduler's limit stopped the grid"
+        assert len(full) >= enough or grid == TILE_SIZES[-1]
+        largest_enough = max((s for s in TILE_SIZES if count(s) >= enough), default=TILE_SIZES[-1])
+        assert len(full) <= limit or grid == largest_enough, "more tasks only when threads need them"
+    assert within_budget or grid == TILE_SIZES[-1] or finer_too_many, \
         "over budget only when smaller tiles would be too many"
     # and no larger tile would do as well
-    assert all(count(s) < enough or s * s * pixel_rays > TILE_RAYS for s in TILE_SIZES if s > size)
+    assert all(count(s) < enough or s * s * pixel_rays > TILE_RAYS for s in TILE_SIZES if s > grid)
 
 
-def test_a_large_cluster_gets_no_more_tiles_than_the_scheduler_can_hand_out():
+def test_a_large_cluster_gets_as_many_tiles_as_the_scheduler_can_hand_out_the_middle_ones_cut_and_last():
     """A 3840 x 2160 dragon at 16 samples (32 rays a pixel) on 32 workers of 8
-    threads: two tiles a thread would be 2040 tiles of 64, and the scheduler,
-    at about 1.05 ms a task, would take 2.1 s to hand out what the threads
-    render in 0.24 s. It gets 135 tiles of 256 (2.1M rays, over the ray
-    budget; 59 ms on a worker of 8 threads). The same image on one such
-    worker, at 16 samples or one, keeps its plan."""
+    threads: the scheduler can hand out 202 tasks while the threads render
+    (two tiles a thread would be 2040 tiles of 64), between 135 tiles of 256
+    and 510 of 128. It gets the 256s with the 22 middle ones cut in four:
+    113 tiles of 256 (15 cut short by the image's edge), then 88 of 128, which
+    run last, centre-out. The same image on one such worker, at 16 samples or
+    one, keeps its plan."""
+    assert 135 < schedulable_tiles(3840, 2160, 256, 32) < 510
     full = plan_passes(3840, 2160, 256, interactive=False, pixel_rays=32)[-1]
-    assert {t.w for t in full if t.x + t.w < 3840} == {256} and len(full) == 135
-    assert schedulable_tiles(3840, 2160, 256, 32) < 135 < TILES_PER_THREAD * 256
+    large = [t for t in full if t.w == 256]
+    quarters = [t for t in full if t.w == 128]
+    assert len(full) == 201 and len(large) == 113 and len(quarters) == 88 and full[113:] == quarters
+    assert max(t.priority for t in quarters) < min(t.priority for t in large), "the quarters run last"
+    centre = lambda t: ((t.x + t.w / 2 - 1920) ** 2 + (t.y + t.h / 2 - 1080) ** 2) ** 0.5  # noqa: E731
+    assert max(map(centre, quarters)) < min(map(centre, large)) + 256, "they are the middle's"
+    assert [centre(t) for t in quarters] == sorted(centre(t) for t in quarters)
+    assert grid_size(full) == 128
     assert len(plan_passes(3840, 2160, 8, interactive=False, pixel_rays=32)[-1]) == 510  # 128s: the ray budget
     assert len(plan_passes(3840, 2160, 8, interactive=False, pixel_rays=2)[-1]) == 40    # 512s, within budget
 
 
+def test_cut_tiles_cover_the_image_once_on_the_grid_of_the_layer_files():
+    """Tiles of two sizes: each pixel in one tile, each tile in one preview
+    tile, starting on grid_size's grid and covering whole blocks of it (or
+    ending at the image's edge)."""
+    width, height = 3840, 2160
+    *previews, full = plan_passes(width, height, 256, interactive=True, pixel_rays=32)
+    grid = grid_size(full)
+    assert {max(t.w, t.h) for t in full} == {256, 128} and grid == 128
+    covered = np.zeros((height, width), np.uint8)
+    for t in full:
+        covered[t.y:t.y + t.h, t.x:t.x + t.w] += 1
+        assert t.x % grid == 0 and t.y % grid == 0
+        assert (t.w % grid == 0 or t.x + t.w == width) and (t.h % grid == 0 or t.y + t.h == height)
+        p = t.preview
+        assert p in previews[0] and p.x <= t.x and t.x + t.w <= p.x + p.w and p.y <= t.y and t.y + t.h <= p.y + p.h
+    assert (covered == 1).all()
+    assert sum(t.pixels for p in (*previews, full) for t in p) == width * height
+
+
+def test_grid_size_is_the_largest_tiles_edge_or_the_cut_tiles():
+    assert grid_size(plan_passes(1024, 1024, 2, False, 2)[-1]) == 512
+    assert grid_size(plan_passes(90, 90, 2, False, 2)[-1]) == 90
+    assert grid_size(plan_passes(800, 600, 8, False, 1)[-1]) == 256  # 512s, the middle ones cut
+
+
 def test_the_scheduler_limit_leaves_two_threads_alone_but_for_tiny_images():
     """On 2 threads the limit can bind only below 4 x 2 x TASK_RAYS_PER_THREAD
-    (64K) rays: a 90 x 90 image at one sample of one light (16.2K rays) is one
-    tile, not 4 of 64; 160 x 120 (38.4K) keeps its 6 tiles of 64."""
+    (40K) rays: a 160 x 120 image at one sample of one light (38.4K rays) is
+    2 tiles (128 and 32 wide), not 6 of 64, a 90 x 90 one tile; 200 x 150
+    (60K) keeps its 4 tiles of 128, 640 x 480 its 6 of 256."""
+    assert 4 * 2 * TASK_RAYS_PER_THREAD == 40 * 1024
+    assert [(t.w, t.h) for t in plan_passes(160, 120, 2, interactive=False, pixel_rays=2)[-1]] == \
+        [(128, 120), (32, 120)]
     (full,) = plan_passes(90, 90, 2, interactive=False, pixel_rays=2)
     assert len(full) == 1 and (full[0].w, full[0].h) == (90, 90)
-    assert len(plan_passes(160, 120, 2, interactive=False, pixel_rays=2)[-1]) == 6
+    assert len(plan_passes(200, 150, 2, interactive=False, pixel_rays=2)[-1]) == 4
+    small = plan_passes(640, 480, 2, interactive=True, pixel_rays=2)[-1]
+    assert len(small) == 6 and grid_size(small) == 256
 
 
 def test_a_cheap_image_gets_few_large_tiles_and_an_expensive_one_small_tiles():

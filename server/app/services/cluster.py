@@ -25,6 +25,8 @@ from rt import job_pb2
 
 from ..core.allocator import keep_freed_memory
 from ..core.config import Settings
+from . import tile_slots
+from .tile_slots import queued_tasks
 from .tile_tasks import stop_run
 
 log = logging.getLogger("rt.cluster")
@@ -107,8 +109,10 @@ class RenderCluster:
 
     async def _set_up(self) -> None:
         """What a scheduler must know of this server: the worker plugin (which
-        it hands every worker that joins) and the topics it forwards here."""
+        it hands every worker that joins), how many tiles a worker holds
+        (tile_slots.py) and the topics it forwards here."""
         await self.client.register_plugin(RenderWorkerSetup())
+        await tile_slots.set_up(self.client)
         for topic, handler in self._topics.items():
             self.client.subscribe_topic(topic, handler)
         self._scheduler_id = self.client.scheduler_info().get("id", "")
@@ -157,8 +161,9 @@ class RenderCluster:
         """Futures of `tasks` ({key: (function, *arguments)}), sent to the
         scheduler as one graph: one message and one update for a job's tiles
         instead of one each (a third of Dask's cost per tile). Higher priority
-        runs first; between equal priorities, the graph sent earlier."""
-        layer = MaterializedLayer(tasks, annotations={"priority": priorities.__getitem__})
+        runs first; between equal priorities, the graph sent earlier. The
+        scheduler queues them and hands each worker two at a time (tile_slots.py)."""
+        layer = MaterializedLayer(queued_tasks(tasks), annotations={"priority": priorities.__getitem__})
         graph = HighLevelGraph({name: layer}, {name: set()})
         # fifo_timeout 0: every graph is a generation of its own, older first.
         return self.client.get(graph, list(tasks), sync=False, fifo_timeout="0ms")

@@ -148,21 +148,31 @@ def _write_direct(path: Path, block: np.ndarray, offset: int) -> bool:
 
 
 def write_tile(folder: str | Path, x: int, y: int, layers: dict[str, np.ndarray]) -> None:
-    """Writes a full-resolution tile's layers at (x, y), each as one block."""
+    """Writes a full-resolution tile's layers at (x, y), each as the blocks it
+    covers: one, or where the plan cut some tiles smaller (tile_plan.full_tiles)
+    each of a larger tile's."""
     for name, values in layers.items():
         path = Path(folder) / f"{name}.npy"
         with open(path, "rb") as f:
             (_, columns, tile, _, channels), start = _read_header(f)
-        block = _staging_block((tile, tile, channels))
-        offset = start + ((y // tile) * columns + x // tile) * block.nbytes
-        h, w = values.shape[:2]
-        block[:h, :w] = values.reshape(h, w, channels)
-        block[h:] = 0  # an edge tile fills the top left of its block
-        block[:h, w:] = 0
-        aligned = offset % DIRECT_ALIGN == 0 and block.nbytes % DIRECT_ALIGN == 0
-        if not (aligned and _write_direct(path, block, offset)):
-            with open(path, "r+b") as f:
-                os.pwrite(f.fileno(), block, offset)
+        height, width = values.shape[:2]
+        values = values.reshape(height, width, channels)
+        for by in range(0, height, tile):
+            for bx in range(0, width, tile):
+                offset = start + (((y + by) // tile) * columns + (x + bx) // tile) * tile * tile * channels * 4
+                _write_block(path, values[by:by + tile, bx:bx + tile], offset, tile)
+
+
+def _write_block(path: Path, values: np.ndarray, offset: int, tile: int) -> None:
+    block = _staging_block((tile, tile, values.shape[2]))
+    h, w = values.shape[:2]
+    block[:h, :w] = values
+    block[h:] = 0  # an edge tile fills the top left of its block
+    block[:h, w:] = 0
+    aligned = offset % DIRECT_ALIGN == 0 and block.nbytes % DIRECT_ALIGN == 0
+    if not (aligned and _write_direct(path, block, offset)):
+        with open(path, "r+b") as f:
+            os.pwrite(f.fileno(), block, offset)
 
 
 def complete(job_folder: Path) -> None:

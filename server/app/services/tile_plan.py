@@ -16,41 +16,51 @@ jobs, any job's preview outranks full-resolution tiles, and tiles of equal rank
 from different jobs interleave instead of one job waiting for another to finish.
 
 Tile size follows the work per pixel. A tile renders on all of its worker's
-cores (rtcore's render pool), so a tile per thread in flight and one queued
-keep a worker busy; beyond that, a task costs the server's event loop about 3
-ms of Dask bookkeeping whatever its size, so a cheap image gets large tiles
-(a 1024 x 1024 dragon at one sample: 4 tiles of 512, instead of 16 of 256 that
-took 4% of the image's CPU in bookkeeping), and an expensive one small tiles,
-so that a tile ends in a fraction of a second: an interactive job waits at
-most that long for a thread, and viewers see the image advance. A job that
-would need more than MAX_TILES such tiles gets fewer, longer ones.
+cores (rtcore's render pool), and a worker holds two tiles at a time, one
+rendering and the next waiting (tile_slots.py); two tiles a thread in all
+make each a small share of its worker's work, so that workers end together.
+Beyond that, a task costs the server's event loop Dask's bookkeeping whatever
+its size, so a cheap image gets large tiles (a 1024 x 1024 dragon at one
+sample: 4 tiles of 512, instead of 16 of 256 that took 4% of the image's CPU
+in bookkeeping), and an expensive one small tiles, so that a tile ends in a
+fraction of a second: an interactive job waits at most that long for a
+worker, and viewers see the image advance. A job that would need more than
+MAX_TILES such tiles gets fewer, longer ones.
 
 On a large cluster the count of tiles has a ceiling of its own. Dask's
-scheduler handles tasks one at a time, 1.0 to 1.2 ms of its CPU each on this
-machine with 1 to 16 workers of 8 threads (medians, no trend with the
-workers; renderer/bench/dask_costs.py), and the server 0.87 ms per result and
-1.5 ns per byte of its message besides. Two tiles a thread cut a 3840 x 2160
-dragon at 16 samples (32 rays a pixel) on 32 such workers into 2040 tiles of
-64: 2.1 s of scheduling for the 0.24 s each thread renders, 12% efficiency in
-the cluster model (renderer/bench/cluster_model.py,
-docs/charts/scaling_cluster_model.md). So a job gets no more tiles than the
-scheduler can hand out while the threads render them: each must bring every
-thread TASK_RAYS_PER_THREAD rays, over the ray budget if need be. A thread
-renders about 4.5M rays a second (447 ns a pixel of 2 rays), some 5K in the
-scheduler's turn for one task; with 8K, and tile counts that come in steps of
-four, the scheduler is busy for no longer than about the render. 16K (tried
-first) gave the same at 32 workers but too few tiles at 16 (135 instead of
-510: 79% against 90%) and at 64 (40 instead of 135: 20% against 43%). The job
-above gets 135 tiles of 256 (59 ms each on a worker of 8 threads, on
-average) and 59% in the model. What is left is the last round: Dask starts as
-many tiles on a worker as it has threads, all at once, and never steals a
-running one, so tiles are dealt by count, not cost (workers taking a tile at a
-time would give 91%). At one sample the same image is 14 ms of rendering per
-thread at 32 workers: the server's handling of its 33 MB of RGBA8 messages
-and a job's latency bound it whatever the plan (1% before, 15% now). Small
-clusters keep their plans: on 2 threads the limit can bind only below 64K
-rays (a 90 x 90 image at one sample of one light: one tile instead of 4 of
-64), and one worker of 8 threads gets what it got before.
+scheduler handles tasks one at a time, 0.6 to 0.85 ms of its CPU each on this
+machine with 1 to 16 workers of 8 threads (renderer/bench/dask_costs.py), and
+the server 0.57 ms per result and 0.8 ns per byte of its message besides.
+Two tiles a thread would cut a 3840 x 2160 dragon at 16 samples (32 rays a
+pixel) on 32 such workers into 2040 tiles of 64: 1.5 s of scheduling for the
+0.18 s each worker renders, 13% efficiency in the cluster model
+(renderer/bench/cluster_model.py, docs/charts/scaling_cluster_model.md). So a
+job gets no more tiles than the scheduler can hand out while the threads
+render them: each must bring every thread TASK_RAYS_PER_THREAD rays. A thread
+renders about 5.7M rays a second, 4K in the scheduler's turn for one task;
+with 5K the scheduler is busy for at most four fifths of the render (8K, as
+first chosen, left room for too few tiles: the job below got 135, 74%).
+
+The limit falls between tile sizes, whose counts come in steps of four: the
+job above could have 135 tiles of 256 or 510 of 128, too few or too many. With
+135 the tiles' costs differ (the dragon's up to 5 times the background's) and
+a worker holds its next tile while it renders one, so the workers that took
+costly tiles late end late: 74%. So when the limit stops the grid short of the
+next smaller tiles, as many of its middle tiles as the scheduler has room for
+are cut in four, and the quarters run last: the tiles that cost most, where
+the subject usually is, are smaller, and the last round is of small tiles, so
+that the workers end together. The job gets 201 tiles (113 of 256, then 88 of
+128): 90% (56% when Dask dealt its 135 tiles by count). With 16 to 48 tiles
+cut that was 87-91%; the quarters run centre-out among the rest gave 80-91%,
+and cutting the outer tiles instead 75-81%. At 64 workers the scheduler hands
+out about 100 tasks in the 94 ms each worker renders, fewer than two a worker,
+and the costliest tile of 256 alone takes 135 ms: 47-49%, cut or not. At one
+sample the same image is 10 ms of rendering per thread at 32 workers: the
+server's handling of its 33 MB of RGBA8 messages and a job's latency bound it
+(16%). Small clusters keep their plans but for tiny images: on 2 threads the
+limit binds only below 40K rays (a 160 x 120 image at one sample of one light
+gets 2 tiles instead of 6, which its worker renders on both threads all the
+same).
 """
 
 from __future__ import annotations
@@ -69,7 +79,7 @@ PREVIEW_MIN_PIXELS = 256 * 256   # smaller images are fast enough without a prev
 PREVIEW_MIN_RAYS_PER_THREAD = 8 * (1 << 20)
 PREVIEW_TILE = 1024              # 128 x 128 samples a task: one for a 1024 x 1024 image
 TILE_SIZES = (512, 256, 128, 64, 32, 16)
-TILES_PER_THREAD = 2             # one rendering and one queued on every thread
+TILES_PER_THREAD = 2             # enough tiles: each a small share of its worker's work
 TILE_RAYS = 1 << 20              # a tile's estimated rays: ~0.15 s on 2 cores
 # Tasks of one job at most (unless its threads need more): Dask's bookkeeping
 # grows with them, cancelling a graph as their square (4096 tiles sharing a
@@ -77,9 +87,9 @@ TILE_RAYS = 1 << 20              # a tile's estimated rays: ~0.15 s on 2 cores
 MAX_TILES = 1024
 # Dask's scheduler handles tasks one at a time, so a task must bring the
 # cluster enough work to pay for its turn: at least this many rays per thread
-# of the cluster, what a thread renders in about twice the scheduler's time for
-# one task (the module's docstring has the figures).
-TASK_RAYS_PER_THREAD = 8 * 1024
+# of the cluster, what a thread renders in about 1.25 times the scheduler's
+# time for one task (the module's docstring has the figures).
+TASK_RAYS_PER_THREAD = 5 * 1024
 
 INTERACTIVE_BOOST = 10_000_000
 PREVIEW_BOOST = 1_000_000
@@ -140,30 +150,76 @@ def schedulable_tiles(width: int, height: int, threads: int, pixel_rays: float =
     return width * height * pixel_rays / (max(threads, 1) * TASK_RAYS_PER_THREAD)
 
 
-def full_tile_size(width: int, height: int, threads: int, pixel_rays: float = 1.0) -> int:
-    """The largest tile within the ray budget that still gives every thread
-    enough tiles, or the scheduler as many as it can hand out in time if
-    that is fewer; over budget when the next smaller tile would make more than
-    MAX_TILES tasks (and enough tiles do not need them) or more than the
-    scheduler can hand out in time."""
+def _tile_counts(width: int, height: int, threads: int, pixel_rays: float) -> tuple[float, float, bool]:
+    """Enough tiles to keep every thread busy (or as many as the scheduler
+    can hand out in time, if fewer), too many tasks (more than MAX_TILES,
+    unless the threads need them, or than the scheduler can hand out in
+    time), and whether the scheduler sets that limit."""
+    threads = max(threads, 1)
     schedulable = max(1.0, schedulable_tiles(width, height, threads, pixel_rays))
-    enough = min(TILES_PER_THREAD * max(threads, 1), schedulable)
-    limit = min(max(MAX_TILES, TILES_PER_THREAD * max(threads, 1)), schedulable)
+    busy = TILES_PER_THREAD * threads
+    return min(busy, schedulable), min(max(MAX_TILES, busy), schedulable), schedulable < max(MAX_TILES, busy)
+
+
+def full_tile_size(width: int, height: int, threads: int, pixel_rays: float = 1.0) -> int:
+    """The largest tile within the ray budget that still makes enough tiles;
+    over budget when the next smaller tile would make too many; and short of
+    enough when the scheduler's limit is what the next smaller tile would
+    pass (full_tiles then cuts the middle tiles, as many as it has room for)."""
+    enough, limit, scheduler_limited = _tile_counts(width, height, threads, pixel_rays)
     counts = [_blocks(width, size) * _blocks(height, size) for size in TILE_SIZES]
     for i, size in enumerate(TILE_SIZES):
-        if counts[i] < enough:
-            continue
         smallest = i + 1 == len(TILE_SIZES)
-        if size * size * pixel_rays <= TILE_RAYS or smallest or counts[i + 1] > limit:
+        finer_too_many = not smallest and counts[i + 1] > limit
+        if counts[i] < enough and not (scheduler_limited and finer_too_many):
+            continue
+        if size * size * pixel_rays <= TILE_RAYS or smallest or finer_too_many:
             return size
     return TILE_SIZES[-1]
 
 
-def _grid(width: int, height: int, size: int) -> list[tuple[int, int, int, int]]:
-    rects = [(x, y, min(size, width - x), min(size, height - y))
-             for y in range(0, height, size) for x in range(0, width, size)]
+Rect = tuple[int, int, int, int]
+
+
+def _centre_out(rects: list[Rect], width: int, height: int) -> list[Rect]:
     cx, cy = width / 2, height / 2
     return sorted(rects, key=lambda r: ((r[0] + r[2] / 2 - cx) ** 2 + (r[1] + r[3] / 2 - cy) ** 2, r[1], r[0]))
+
+
+def _grid(width: int, height: int, size: int) -> list[Rect]:
+    return _centre_out([(x, y, min(size, width - x), min(size, height - y))
+                        for y in range(0, height, size) for x in range(0, width, size)], width, height)
+
+
+def _quarters(rect: Rect, size: int) -> list[Rect]:
+    """A tile of a grid of `size` (clipped at the image's edge) as the tiles of the grid of size / 2 it covers."""
+    x, y, w, h = rect
+    half = size // 2
+    return [(qx, qy, min(half, x + w - qx), min(half, y + h - qy))
+            for qy in range(y, y + h, half) for qx in range(x, x + w, half)]
+
+
+def full_tiles(width: int, height: int, threads: int, pixel_rays: float = 1.0) -> list[Rect]:
+    """The full-resolution tiles in the order they run: full_tile_size's
+    grid centre-out; and when the scheduler's limit stopped it short of
+    smaller tiles (its tiles over the ray budget, or fewer than enough), as
+    many of its middle tiles as the scheduler has room for cut in four, which
+    run last (the module's docstring says why)."""
+    size = full_tile_size(width, height, threads, pixel_rays)
+    rects = _grid(width, height, size)
+    enough, limit, scheduler_limited = _tile_counts(width, height, threads, pixel_rays)
+    short = len(rects) < enough or size * size * pixel_rays > TILE_RAYS
+    if not scheduler_limited or not short or size == TILE_SIZES[-1]:
+        return rects
+    quarters: list[Rect] = []
+    count, cut = len(rects), 0
+    for rect in rects:  # centre-out: the middle ones first
+        parts = _quarters(rect, size)  # fewer than four where the image's edge clips the tile
+        if count + len(parts) - 1 > limit:
+            break
+        count, cut = count + len(parts) - 1, cut + 1
+        quarters += parts
+    return rects[cut:] + _centre_out(quarters, width, height)
 
 
 def wants_preview(width: int, height: int, threads: int, interactive: bool, pixel_rays: float) -> bool:
@@ -185,16 +241,20 @@ def plan_passes(width: int, height: int, threads: int, interactive: bool,
         passes.append([TileSpec(0, x, y, w, h, PREVIEW_SCALE, boost + PREVIEW_BOOST - i)
                        for i, (x, y, w, h) in enumerate(_grid(width, height, PREVIEW_TILE))])
         previews = {(p.x, p.y): p for p in passes[0]}
-    size = full_tile_size(width, height, threads, pixel_rays)
     index = len(passes)
     # Every tile size divides PREVIEW_TILE and is a multiple of PREVIEW_SCALE:
     # a tile lies in one preview tile and starts on its grid.
     passes.append([TileSpec(index, x, y, w, h, 1, boost - i,
                             previews.get((x - x % PREVIEW_TILE, y - y % PREVIEW_TILE)))
-                   for i, (x, y, w, h) in enumerate(_grid(width, height, size))])
+                   for i, (x, y, w, h) in enumerate(full_tiles(width, height, threads, pixel_rays))])
     return passes
 
 
 def grid_size(tiles: list[TileSpec]) -> int:
-    """The edge of the grid a pass's tiles start on: its largest tile's."""
-    return max(max(t.w, t.h) for t in tiles)
+    """The edge of the blocks a pass's tiles are stored in (layer_files): the
+    grid every tile starts on, that of its largest tiles or, where middle
+    tiles were cut in four, of the quarters (a tile then covers whole blocks
+    of it, or ends at the image's edge); one tile's own edge."""
+    starts = {t.x for t in tiles} | {t.y for t in tiles}
+    starts.discard(0)
+    return math.gcd(*starts) if starts else max(max(t.w, t.h) for t in tiles)
