@@ -119,4 +119,7 @@ def test_without_fair_share_the_newcomer_waits_behind_the_flood(tmp_path, cornel
     delay, tile, share = newcomer_delay(tmp_path, cornell_zip, fair=fair)
     print(f"plan's priorities: Bob's first tile started {delay * 1000:.0f} ms after his post "
           f"({delay / tile:.1f} tiles of {tile * 1000:.0f} ms); Alice's flood {share:.0%} done when Bob's job was")
-    assert delay > 5 * tile, (delay, tile)
+    # Her whole flood went first: how many tiles that is depends on when Bob
+    # posted (4.6 to 8.8 of them in runs here), not on the order.
+    assert share == 1.0, "without fair share, Alice's older graphs all went first"
+    assert delay > 3 * tile, (delay, tile)
