@@ -47,8 +47,18 @@ def to_dict(message: Message) -> dict[str, Any]:
     MessageToDict is pure Python, and clients ask for the same records again
     and again (a job that has ended never changes; lists and polls repeat
     it): under the load benchmark it was 5% of the event loop's time. So the
-    answer is kept by the message's bytes, which serialize in C."""
-    return _dict_of(type(message), message.SerializeToString(deterministic=True))
+    answer to a small message (a job's record is about 1 KB) is kept by the
+    message's bytes, which serialize in C; large ones (a BVH level's boxes, a
+    traced pixel's rays) are rarely asked for twice and would crowd the rest
+    out."""
+    serialized = message.SerializeToString(deterministic=True)
+    if len(serialized) > KEPT_MESSAGE_BYTES:
+        return MessageToDict(message, preserving_proto_field_name=True, including_default_value_fields=True)
+    return _dict_of(type(message), serialized)
+
+
+# Answers kept: at most 4096 of at most 16 KB each (their dicts take a few times that).
+KEPT_MESSAGE_BYTES = 16 * 1024
 
 
 @functools.lru_cache(maxsize=4096)

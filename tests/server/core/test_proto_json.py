@@ -18,3 +18,10 @@ def test_an_equal_message_answers_the_same_json_and_a_changed_one_its_own():
 
 def test_messages_of_different_types_with_the_same_bytes_answer_their_own():
     assert to_dict(job_pb2.Job()) != to_dict(job_pb2.JobList())
+
+
+def test_a_large_message_is_converted_each_time_not_kept():
+    from app.core.proto import KEPT_MESSAGE_BYTES
+
+    large = job_pb2.Job(id="b2", error="x" * (KEPT_MESSAGE_BYTES + 1))
+    assert to_dict(large) == to_dict(large) and to_dict(large) is not to_dict(large)
