@@ -427,5 +427,16 @@ TEST(LoaderCompressed, DracoSharedAccessorsAreDecodedOnceOrRefused) {
                     "which another Draco stream decoded into already");
 }
 
+TEST(LoaderCompressed, DracoStreamNamedByAHugeNumberIsRefused) {
+    // Found by fuzz_gltf: the number was cast to int before it was checked (UB).
+    for (const double view : {1.11111e83, -1e20, 0.5}) {
+        SCOPED_TRACE(view);
+        GltfDoc doc = DracoGrid().doc();
+        doc.json["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["bufferView"] = view;
+        EXPECT_MENTIONS(scene_error([&] { load_text(doc.text(), "h.gltf"); }),
+                        "has no bufferView, or one that does not exist");
+    }
+}
+
 }  // namespace
 }  // namespace rt

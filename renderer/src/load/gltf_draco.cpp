@@ -220,7 +220,10 @@ void decode_draco(tinygltf::Model& model, const std::string& scene_name, DecodeB
             const std::string what = scene_name + ": meshes[" + std::to_string(m) + "].primitives[" +
                                      std::to_string(p) + "]." + kExtension;
             const tinygltf::Value& object = extension->second;
-            const std::string key = object.IsObject() ? std::to_string(object.Get("bufferView").GetNumberAsInt()) : "";
+            // Only an integer names a stream: tinygltf's GetNumberAsInt casts any
+            // number, and a huge one (1e83) overflows int (decode_mesh refuses it).
+            const tinygltf::Value& view = object.IsObject() ? object.Get("bufferView") : object;
+            const std::string key = view.IsInt() ? std::to_string(view.Get<int>()) : "";
             std::vector<int> used{primitive.indices};
             const tinygltf::Value& attributes = object.IsObject() ? object.Get("attributes") : object;
             for (const std::string& semantic : attributes.IsObject() ? attributes.Keys() : std::vector<std::string>{}) {
