@@ -13,9 +13,9 @@ Two ways to send them, both run:
   quarters of a period later. Each request's latency counts from when it was
   due, so a stalled server is charged for the requests it held back
   (coordinated omission). This is the load the targets are for: 50 clients
-  at a post every 0.5 s offer 100 jobs a second, more than the cluster
-  renders (about 80 a second in the closed run), so it is busy throughout and
-  its queue grows.
+  at a post every 0.5 s offer 100 jobs a second, as many as the cluster
+  renders or more (80-106 a second in closed runs on 2 cores), so it is busy
+  throughout.
 - closed: each client sends its next request as soon as the last one is
   answered, so the server is always saturated, and by Little's law the mean
   latency is the clients' count over the throughput. Printed for the
