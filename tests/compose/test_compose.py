@@ -8,7 +8,6 @@ a local render gives. Everything is torn down, whatever fails."""
 import io
 import re
 import subprocess
-import time
 from pathlib import Path
 
 import httpx
@@ -24,6 +23,7 @@ from base_images import ensure_base_images
 from compose_topology import ComposeTopology
 from host_setup import prepare_host
 from podman_cli import PODMAN, podman
+from waiting import wait_until
 
 ROOT = Path(__file__).resolve().parents[2]
 # The name docker-compose.yml gives the image; podman finds `rt:latest` as this.
@@ -31,19 +31,6 @@ IMAGE = "localhost/rt:latest"
 PROJECT = "rt-compose-test"
 # OpenEXR's capDate attribute: the time of writing, the only byte that may differ.
 CAP_DATE = re.compile(rb"capDate\x00string\x00.{4}\d{4}:\d\d:\d\d \d\d:\d\d:\d\d", re.S)
-
-
-def wait_until(check, timeout: float, what: str):
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        try:
-            value = check()
-            if value:
-                return value
-        except httpx.HTTPError:
-            pass
-        time.sleep(0.2)
-    raise AssertionError(f"timed out waiting for {what}")
 
 
 @pytest.fixture(scope="module")
