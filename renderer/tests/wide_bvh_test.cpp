@@ -199,7 +199,7 @@ TEST(TriangleBlock, TheFourLaneTestIsTheScalarTestBitForBit) {
         std::vector<uint32_t> ids(scene->triangles.size());
         for (uint32_t i = 0; i < ids.size(); ++i) ids[i] = i;
         while (ids.size() % bvh::kBlockWidth != 0) ids.push_back(bvh::kNoPrim);
-        const std::vector<TriangleBlock> blocks = make_triangle_blocks(ids, scene->positions, scene->triangles, {});
+        const auto blocks = make_triangle_blocks(ids, scene->positions, scene->triangles, {});
         std::vector<Ray> rays = random_rays(*scene, 300, 5);
         for (const vec3& p : scene->positions) rays.push_back({vec3(0.01f, 0.02f, 0.03f), p, kInfinity});
         uint64_t lanes_hit = 0;
@@ -240,9 +240,9 @@ TEST(TriangleBlock, BlocksFilledOnSeveralThreadsAreTheSame) {
     while (ids.size() % bvh::kBlockWidth != 0) ids.push_back(bvh::kNoPrim);
     std::vector<uint8_t> alpha(scene.triangles.size());
     for (size_t i = 0; i < alpha.size(); i += 3) alpha[i] = 1;
-    const std::vector<TriangleBlock> one = make_triangle_blocks(ids, scene.positions, scene.triangles, alpha, 1);
+    const auto one = make_triangle_blocks(ids, scene.positions, scene.triangles, alpha, 1);
     for (unsigned threads : {2u, 3u}) {
-        const std::vector<TriangleBlock> many = make_triangle_blocks(ids, scene.positions, scene.triangles, alpha, threads);
+        const auto many = make_triangle_blocks(ids, scene.positions, scene.triangles, alpha, threads);
         ASSERT_EQ(one.size(), many.size());
         EXPECT_EQ(std::memcmp(one.data(), many.data(), one.size() * sizeof(TriangleBlock)), 0) << threads << " threads";
     }

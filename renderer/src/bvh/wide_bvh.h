@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bvh/wide_node.h"
+#include "util/huge_pages.h"
 
 namespace rt::bvh {
 
@@ -24,10 +25,10 @@ inline constexpr uint32_t kWideStackSize = kMaxWideDepth * (kWideWidth - 1) + 1;
 struct WideBvh {
     // nodes[0] is the root; every child node comes after its parent. Empty
     // when there are no primitives.
-    std::vector<WideNode> nodes;
+    HugePageVector<WideNode> nodes;
     // One per node for a moving scene (refit_motion), else empty: how far each
     // child's box planes move from shutter open to close.
-    std::vector<WideBoxes> motion;
+    HugePageVector<WideBoxes> motion;
     // kBlockWidth entries per block, in leaf order; kNoPrim pads a leaf's last block.
     std::vector<uint32_t> prim_ids;
     uint32_t depth = 0;  // wide levels below the root, leaves counted as a level

@@ -21,8 +21,8 @@ struct AccelData {
     bvh::WideBvh bvh;  // its prim_ids are dropped once copied into `blocks`
     // The triangles at shutter open, and their motion (close - open) when the
     // scene moves (else empty).
-    std::vector<TriangleBlock> blocks;
-    std::vector<TriangleBlock> blocks_motion;
+    HugePageVector<TriangleBlock> blocks;
+    HugePageVector<TriangleBlock> blocks_motion;
     bool moving = false;
     bool filtered = false;  // some triangle's material has alpha (MASK or BLEND)
 };

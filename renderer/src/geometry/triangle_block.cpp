@@ -24,10 +24,10 @@ void fill_block(TriangleBlock& block, const uint32_t* ids, std::span<const vec3>
 
 }  // namespace
 
-std::vector<TriangleBlock> make_triangle_blocks(std::span<const uint32_t> prim_ids, std::span<const vec3> positions,
+HugePageVector<TriangleBlock> make_triangle_blocks(std::span<const uint32_t> prim_ids, std::span<const vec3> positions,
                                                 std::span<const uvec3> triangles, std::span<const uint8_t> alpha,
                                                 unsigned threads) {
-    std::vector<TriangleBlock> blocks(prim_ids.size() / bvh::kBlockWidth);
+    HugePageVector<TriangleBlock> blocks(prim_ids.size() / bvh::kBlockWidth);
     parallel_runs(threads, blocks.size(), kMinBlocksPerThread, [&](size_t begin, size_t end) {
         for (size_t b = begin; b < end; ++b)
             fill_block(blocks[b], &prim_ids[b * bvh::kBlockWidth], positions, triangles, alpha);
@@ -35,10 +35,10 @@ std::vector<TriangleBlock> make_triangle_blocks(std::span<const uint32_t> prim_i
     return blocks;
 }
 
-std::vector<TriangleBlock> make_motion_blocks(std::span<const TriangleBlock> open, std::span<const uint32_t> prim_ids,
+HugePageVector<TriangleBlock> make_motion_blocks(std::span<const TriangleBlock> open, std::span<const uint32_t> prim_ids,
                                               std::span<const vec3> positions_close, std::span<const uvec3> triangles,
                                               unsigned threads) {
-    std::vector<TriangleBlock> motion = make_triangle_blocks(prim_ids, positions_close, triangles, {}, threads);
+    HugePageVector<TriangleBlock> motion = make_triangle_blocks(prim_ids, positions_close, triangles, {}, threads);
     for (size_t b = 0; b < motion.size(); ++b)
         for (int k = 0; k < 3; ++k)
             for (int axis = 0; axis < 3; ++axis)

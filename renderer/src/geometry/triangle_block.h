@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bvh/wide_node.h"
+#include "util/huge_pages.h"
 #include "util/math.h"
 
 namespace rt {
@@ -37,14 +38,14 @@ static_assert(sizeof(TriangleBlock) == 160);
 // lane i holds triangle prim_ids[i] with the given vertex positions.
 // `alpha[t]` says whether triangle t's hits are filtered (empty: none are).
 // On up to `threads` threads (0: all cores) when there are many blocks.
-std::vector<TriangleBlock> make_triangle_blocks(std::span<const uint32_t> prim_ids, std::span<const vec3> positions,
+HugePageVector<TriangleBlock> make_triangle_blocks(std::span<const uint32_t> prim_ids, std::span<const vec3> positions,
                                                 std::span<const uvec3> triangles, std::span<const uint8_t> alpha,
                                                 unsigned threads = 1);
 
 // The blocks' vertex motion over the shutter: close - open per coordinate,
 // the difference lerp_position forms, so that open + time * motion is the
 // scene's vertex at that time bit for bit.
-std::vector<TriangleBlock> make_motion_blocks(std::span<const TriangleBlock> open, std::span<const uint32_t> prim_ids,
+HugePageVector<TriangleBlock> make_motion_blocks(std::span<const TriangleBlock> open, std::span<const uint32_t> prim_ids,
                                               std::span<const vec3> positions_close, std::span<const uvec3> triangles,
                                               unsigned threads = 1);
 
