@@ -125,6 +125,21 @@ template <typename NodeTest, typename LeafTest>
             alignas(32) float t_entry[bvh::kWideWidth];
             uint32_t hits = node_test(node, ref.node(), reach, t_entry);
             if (hits != 0) {
+                const uint32_t parent = ref.node();
+                // One child or two: no sorting loop, as the single-ray
+                // traversal's push_sorted takes them.
+                if (const uint32_t rest = hits & (hits - 1); (rest & (rest - 1)) == 0) {
+                    uint32_t near = uint32_t(__builtin_ctz(hits));
+                    if (rest != 0) {
+                        uint32_t far = uint32_t(__builtin_ctz(rest));
+                        // Ties go to the lower slot, as the sort's keys order them.
+                        if (t_entry[far] < t_entry[near]) std::swap(near, far);
+                        prefetch_child(bvh, node.child[far], no_prefetch);
+                        stack[stack_size++] = {node.child[far].bits, t_entry[far], parent, far};
+                    }
+                    current = {node.child[near].bits, t_entry[near], parent, near};
+                    continue;
+                }
                 // Farthest first onto the stack, the nearest taken now.
                 uint64_t keys[bvh::kWideWidth];
                 uint32_t count = 0;
@@ -137,7 +152,6 @@ template <typename NodeTest, typename LeafTest>
                     for (; i > 0 && keys[i - 1] < key; --i) keys[i] = keys[i - 1];
                     keys[i] = key;
                 }
-                const uint32_t parent = ref.node();
                 for (uint32_t i = 0; i + 1 < count; ++i) {
                     const uint32_t s = uint32_t(keys[i]);
                     prefetch_child(bvh, node.child[s], no_prefetch);
