@@ -157,7 +157,7 @@ def load_run(args, mode: str) -> bool:
     with tempfile.TemporaryDirectory(prefix="rt-load-") as folder:
         samples = Path(folder, "samples")
         samples.mkdir()
-        (samples / "teapot.glb").symlink_to(args.scenes / "teapot.glb")
+        (samples / "teapot.glb").symlink_to((args.scenes / "teapot.glb").resolve())
         port = free_port()
         server = start_server(Path(folder, "data"), port, RT_SAMPLES_DIR=str(samples))
         try:
