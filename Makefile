@@ -90,7 +90,7 @@ test-cpp: build samples
 # stay in the release run.
 test-asan: build-asan samples
 	cd $(BUILD)/asan && ASAN_OPTIONS=detect_leaks=1 ctest --output-on-failure -j $(JOBS) \
-	  -R '^(Loader|Triangle|Sphere|Spawn|Bvh|WideBvh|Accel|ProtoLimits|Stability)' -E '^Bvh\.MatchesBruteForceOn(Dragon|Bunny)'
+	  -R '^(Loader|Triangle|Sphere|Spawn|Bvh|WideBvh|Accel|ProtoLimits|Stability|HugePages)' -E '^Bvh\.MatchesBruteForceOn(Dragon|Bunny)'
 
 # Each fuzz target for FUZZ_SECONDS on the corpus it grew so far, seeded with
 # the hostile corpus and the small sample scenes. A crash, sanitizer report,

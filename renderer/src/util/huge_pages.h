@@ -20,8 +20,15 @@ namespace rt {
 
 namespace huge_pages {
 inline constexpr size_t kPageBytes = size_t(2) << 20;
+// Under AddressSanitizer every array comes from operator new, whose redzones
+// catch the overflows a mapping of our own would hide.
+#if defined(__SANITIZE_ADDRESS__)
+inline constexpr bool kMapsArrays = false;
+#else
+inline constexpr bool kMapsArrays = true;
+#endif
 // Whether an array of `bytes` is mapped apart (allocate) and so unmapped (release).
-inline bool mapped(size_t bytes) { return bytes >= kPageBytes; }
+inline bool mapped(size_t bytes) { return kMapsArrays && bytes >= kPageBytes; }
 // A mapping of at least `bytes` on a kPageBytes boundary, advised as huge
 // pages, or nullptr when the system refuses it.
 void* allocate(size_t bytes);
