@@ -146,9 +146,8 @@ def main() -> int:
     parser.add_argument("--post-p99", type=float, default=250)
     parser.add_argument("--get-p99", type=float, default=100)
     args = parser.parse_args()
-    holds = True
-    for mode in ("open", "closed"):
-        holds &= load_run(args, mode) or mode == "closed"
+    holds = load_run(args, "open")
+    load_run(args, "closed")  # for its throughput: a saturated server has no latency target
     return 0 if holds else 1
 
 
@@ -182,6 +181,11 @@ def load_run(args, mode: str) -> bool:
         finally:
             server.terminate()
             server.wait(30)
+    return report(args, mode, seen, ended, wall, client_cpu)
+
+
+def report(args, mode: str, seen: Latencies, ended: dict[str, str], wall: float, client_cpu: float) -> bool:
+    """Prints a run's figures; whether the targets hold (the open run's)."""
     how = f"a post every {args.period:g} s each" if mode == "open" else "each request when the last is answered"
     print(f"\n{mode}: {args.clients} clients x {args.jobs} jobs (64x48, 4 spp, teapot), {how}: {wall:.1f} s; "
           f"jobs ended: {dict(_counts(s.split(':')[0] for s in ended.values()))}")
