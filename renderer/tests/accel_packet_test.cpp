@@ -88,6 +88,44 @@ TEST(AccelPacket, CameraPacketsAnswerAsSingleRays) {
     }
 }
 
+TEST(AccelPacket, PacketsWhoseRaysShearAlongDifferentAxesAnswerAsSingleRays) {
+    // Seen along the diagonal of x and y, the rays' largest direction axis,
+    // along which the watertight test shears, flips across the view: the
+    // packets on that line test each shear class's rays a triangle at a time.
+    const Scene scene = sample_scene("bunny.glb");
+    const Bounds3 box = scene.bounds();
+    const vec3 eye = box.center() + 1.8f * glm::length(box.extent()) * glm::normalize(vec3(1.0f, 1.0f, 0.3f));
+    Camera camera;
+    for (float v : {eye.x, eye.y, eye.z}) camera.add_position(v);
+    for (float v : {box.center().x, box.center().y, box.center().z}) camera.add_target(v);
+    for (float v : {0.0f, 0.0f, 1.0f}) camera.add_up(v);
+    camera.set_fov_y(40.0f);
+    // 126 pixels wide: the flip falls inside a block, not between two.
+    const ViewCamera view(camera, 126, 126);
+    for (SimdPath path : paths()) {
+        const Accelerator accel(scene, 1, path);
+        size_t mixed = 0, mixed_as_packets = 0, mixed_hits = 0;
+        for (uint32_t by = 0; by + 4 <= 126; by += 4)
+            for (uint32_t bx = 0; bx + 4 <= 126; bx += 4) {
+                std::vector<Ray> packet;
+                for (uint32_t y = by; y < by + 4; ++y)
+                    for (uint32_t x = bx; x < bx + 4; ++x) packet.push_back(view.generate_ray(x + 0.5f, y + 0.5f));
+                bool on_x = false, on_y = false;
+                for (const Ray& ray : packet) (max_dimension(glm::abs(ray.direction)) == 0 ? on_x : on_y) = true;
+                if (!on_x || !on_y) continue;
+                ++mixed;
+                mixed_as_packets += expect_same_answers(accel, packet, to_string(path));
+                for (const Ray& ray : packet) {
+                    Hit hit;
+                    mixed_hits += accel.intersect(ray, hit);
+                }
+            }
+        EXPECT_GT(mixed, 20u) << "the diagonal crosses the view";
+        EXPECT_GT(mixed_as_packets, mixed * 3 / 4) << to_string(path) << ": most are packets all the same";
+        EXPECT_GT(mixed_hits, mixed * 4) << "and many of their rays hit the bunny";
+    }
+}
+
 TEST(AccelPacket, PacketsAgreeWithBruteForceOnTheDragon) {
     const Scene scene = sample_scene("dragon_4.glb");
     const Accelerator accel(scene);

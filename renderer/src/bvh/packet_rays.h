@@ -28,14 +28,21 @@ struct PacketIntervals {
     uint32_t near_row[3];
     uint32_t far_row[3];
     // Per axis: the origin that gives the smallest entry distance and the one
-    // that gives the largest exit, and the reciprocals' range.
+    // that gives the largest exit; the reciprocal of least magnitude, which
+    // gives the smallest entry distance, and the one of most, scaled by
+    // kExitScale as WideBoxRay::inv_exit is, which gives the largest exit.
     float near_origin[3], far_origin[3];
-    float inv_low[3], inv_high[3];
+    float near_inv[3], far_inv[3];
 };
 
 struct PacketRays {
     // The largest ratio of the reciprocals along one axis that load_packet()
-    // accepts: 1.5 and 4 traced the 4 x 4 camera rays of the dragons alike.
+    // accepts for closest hits: 1.5 and 4 traced the 4 x 4 camera rays of the
+    // dragons alike. Shadow packets take any spread: the intervals only cull
+    // the children each ray then tests on its own, and a loose cull still
+    // beat the box of the segments. On a light's samples from one point
+    // (bvh_bench's soft shadows, 1T against Embree-16): bunny 1.13 -> 1.19,
+    // dragon_3 1.11 -> 1.17, teapot 0.70 -> 0.76.
     static constexpr float kMaxSpread = 2.0f;
 
     uint32_t count = 0;

@@ -10,7 +10,7 @@ enum class PacketLoad {
     // Each ray's constants are set, but the intervals would not bound the
     // rays, or not tightly: they share neither their origin nor their
     // direction, differ in some direction sign, or spread their reciprocals
-    // past kMaxSpread. Shadow rays still take their packet traversal
+    // past the limit asked. Shadow rays still take their packet traversal
     // (packet_masked_traverse.inl), which needs no such bound.
     rays,
     // The interval test bounds them too.
@@ -65,9 +65,9 @@ template <typename Lanes>
 
 // Intervals around rays with origins in [origin_low, origin_high] and
 // direction reciprocals in [inv_low, inv_high], per axis; false when they
-// would not bound them tightly, or at all.
+// would not bound them at all, or spread their reciprocals past max_spread.
 inline bool bound_rays(bvh::PacketIntervals& iv, const float origin_low[3], const float origin_high[3],
-                       const float inv_low[3], const float inv_high[3]) {
+                       const float inv_low[3], const float inv_high[3], float max_spread) {
     for (int axis = 0; axis < 3; ++axis) {
         const float low = inv_low[axis], high = inv_high[axis];
         const bool negative = high < 0.0f;
@@ -76,8 +76,9 @@ inline bool bound_rays(bvh::PacketIntervals& iv, const float origin_low[3], cons
         // direction component nears 0 it can span decades, and the packet
         // would enter every box along the other axes.
         const float spread = negative ? low / high : high / low;
-        if (!(spread <= bvh::PacketRays::kMaxSpread)) return false;
-        iv.inv_low[axis] = low, iv.inv_high[axis] = high;
+        if (!(spread <= max_spread)) return false;
+        iv.near_inv[axis] = negative ? high : low;
+        iv.far_inv[axis] = (negative ? low : high) * bvh::kExitScale;
         constexpr uint32_t kUpper = 3 * bvh::kWideWidth;
         iv.near_row[axis] = uint32_t(axis) * bvh::kWideWidth + (negative ? kUpper : 0);
         iv.far_row[axis] = uint32_t(axis) * bvh::kWideWidth + (negative ? 0 : kUpper);
@@ -91,8 +92,9 @@ inline bool bound_rays(bvh::PacketIntervals& iv, const float origin_low[3], cons
 
 // Sets up the packet from registers, storing each column whole: eight-lane
 // stores that sixteen-lane loads read back cannot be forwarded, and stalled
-// the setup for a quarter of its time.
-[[gnu::always_inline]] inline PacketLoad load_packet(bvh::PacketRays& p, const Ray* rays, uint32_t n) {
+// the setup for a quarter of its time. max_spread: bound_rays'.
+[[gnu::always_inline]] inline PacketLoad load_packet(bvh::PacketRays& p, const Ray* rays, uint32_t n,
+                                                     float max_spread) {
     p.count = n;
     constexpr uint32_t kGroups = bvh::kPacketSize / kRayLanes;
     RayLanes column[kGroups][8];
@@ -144,6 +146,7 @@ inline bool bound_rays(bvh::PacketIntervals& iv, const float origin_low[3], cons
         origin_low[axis] = lanes_low(o_low[axis]), origin_high[axis] = lanes_high(o_high[axis]);
         reciprocal_low[axis] = lanes_low(inv_low[axis]), reciprocal_high[axis] = lanes_high(inv_high[axis]);
     }
-    if (!bound_rays(p.intervals, origin_low, origin_high, reciprocal_low, reciprocal_high)) return PacketLoad::rays;
+    if (!bound_rays(p.intervals, origin_low, origin_high, reciprocal_low, reciprocal_high, max_spread))
+        return PacketLoad::rays;
     return PacketLoad::intervals;
 }

@@ -15,15 +15,17 @@
     NodeLanes enter = lanes_splat<NodeLanes>(0.0f);
     NodeLanes exit = lanes_splat<NodeLanes>(t_max);
     for (int axis = 0; axis < 3; ++axis) {
-        const NodeLanes low = lanes_splat<NodeLanes>(iv.inv_low[axis]), high = lanes_splat<NodeLanes>(iv.inv_high[axis]);
-        // The corners of the interval product: rounding is monotone, so these
-        // bound every ray's rounded distances too.
+        // The corners of the interval product that matter: a ray's entry
+        // distance is at least the nearest origin's distance to the plane
+        // over the reciprocal of least magnitude, where that distance is
+        // positive (where it is not, the product is not either, and the
+        // entry stays 0); its exit at most the farthest origin's over the
+        // reciprocal of most. Rounding is monotone, so these bound every ray's
+        // rounded distances too, its exit scaled as WideBoxRay's is.
         const NodeLanes to_near = lanes_load<NodeLanes>(rows + iv.near_row[axis]) - iv.near_origin[axis];
-        const NodeLanes near_low = to_near * low, near_high = to_near * high;
-        const NodeLanes t_near = near_low < near_high ? near_low : near_high;
+        const NodeLanes t_near = to_near * iv.near_inv[axis];
         const NodeLanes to_far = lanes_load<NodeLanes>(rows + iv.far_row[axis]) - iv.far_origin[axis];
-        const NodeLanes far_low = to_far * low, far_high = to_far * high;
-        const NodeLanes t_far = (far_low > far_high ? far_low : far_high) * bvh::kExitScale;
+        const NodeLanes t_far = to_far * iv.far_inv[axis];
         enter = t_near > enter ? t_near : enter;
         exit = t_far < exit ? t_far : exit;
     }

@@ -5,58 +5,101 @@
 // hands the lanes where an edge function is exactly zero to the scalar test,
 // so each ray's verdict, t, u and v equal its single-ray test's bit for bit.
 //
-// The rays must share their shear axes (kx, ky, kz): the vertex coordinates
+// A test's rays share their shear axes (kx, ky, kz): the vertex coordinates
 // then enter every lane from the same rows. A camera's 4 x 4 pixel block
-// almost always does; PacketShear says when a packet does not.
+// almost always does; shadow rays towards a light seen at about 45 degrees
+// split between two, and each class takes its own tests.
 //
 // Compiled once per SIMD path after packet_lanes.inl,
 // inside the ISA namespace.
 
-// Each ray's shear constants (WatertightRay's), structure of arrays, when
-// every ray of the packet shears along the same axes.
+// The rays that shear along the same axes: WatertightRay's kz, the
+// direction's largest axis, and kx and ky, swapped for a negative d[kz].
+struct ShearClass {
+    int kx, ky, kz;
+    uint32_t rays;
+};
+
+// Each ray's shear (WatertightRay's), structure of arrays, and its class.
 struct PacketShear {
     const bvh::PacketRays& p;
-    bool shared;  // every ray has the axes below
-    int kx, ky, kz;
+    // Up to six classes (three axes, two signs), in no particular order.
+    ShearClass classes[6];
+    uint32_t class_count = 0;
     alignas(64) float sx[bvh::kPacketSize];
     alignas(64) float sy[bvh::kPacketSize];
     alignas(64) float sz[bvh::kPacketSize];
 
+    // WatertightRay's choice of axes (max_dimension's comparisons) and its
+    // shear, lane by lane: the same divisions, so the same numbers. Ray 0's
+    // axes first, which all the rays share but in a few packets.
     explicit PacketShear(const bvh::PacketRays& packet) : p(packet) {
-        const WatertightRay first(ray_at(0));
-        kx = first.kx, ky = first.ky, kz = first.kz;
-        // WatertightRay's choice of kz (max_dimension), and its swap of kx
-        // and ky for a negative d[kz], lane by lane.
-        const bool first_negative = p.direction[kz][0] < 0.0f;
-        shared = true;
-        for (uint32_t lane = 0; lane < bvh::kPacketSize; lane += kRayLanes) {
-            const RayLanes x = lanes_abs(lanes_load<RayLanes>(p.direction[0] + lane)),
-                              y = lanes_abs(lanes_load<RayLanes>(p.direction[1] + lane)),
-                              z = lanes_abs(lanes_load<RayLanes>(p.direction[2] + lane));
-            const RayMask x_over_y = x > y, x_largest = x_over_y & (x > z), y_largest = ~x_over_y & (y > z);
-            const RayMask largest = kz == 0 ? x_largest : kz == 1 ? y_largest : ~(x_largest | y_largest);
-            const RayLanes dz = lanes_load<RayLanes>(p.direction[kz] + lane);
-            const RayMask negative = dz < lanes_splat<RayLanes>(0.0f);
-            shared = shared && lanes_bits(largest & (first_negative ? negative : ~negative)) == kRayLaneBits;
-            lanes_store(sx + lane, lanes_load<RayLanes>(p.direction[kx] + lane) / dz);
-            lanes_store(sy + lane, lanes_load<RayLanes>(p.direction[ky] + lane) / dz);
-            lanes_store(sz + lane, lanes_splat<RayLanes>(1.0f) / dz);
+        const WatertightRay ray0(Ray{{p.origin[0][0], p.origin[1][0], p.origin[2][0]},
+                                     {p.direction[0][0], p.direction[1][0], p.direction[2][0]}});
+        const int kx = ray0.kx, ky = ray0.ky, kz = ray0.kz;
+        const bool negative0 = p.direction[kz][0] < 0.0f;
+        bool shared = true;
+        for (uint32_t first = 0; first < bvh::kPacketSize; first += kRayLanes) {
+            const RayLanes x = lanes_abs(lanes_load<RayLanes>(p.direction[0] + first)),
+                           y = lanes_abs(lanes_load<RayLanes>(p.direction[1] + first)),
+                           z = lanes_abs(lanes_load<RayLanes>(p.direction[2] + first));
+            const RayMask x_over_y = x > y, on_x = x_over_y & (x > z), on_y = ~x_over_y & (y > z);
+            const RayMask on_kz = kz == 0 ? on_x : kz == 1 ? on_y : ~(on_x | on_y);
+            const RayLanes d_kz = lanes_load<RayLanes>(p.direction[kz] + first);
+            const RayMask negative = d_kz < lanes_splat<RayLanes>(0.0f);
+            shared = shared && lanes_bits(on_kz & (negative0 ? negative : ~negative)) == kRayLaneBits;
+            lanes_store(sx + first, lanes_load<RayLanes>(p.direction[kx] + first) / d_kz);
+            lanes_store(sy + first, lanes_load<RayLanes>(p.direction[ky] + first) / d_kz);
+            lanes_store(sz + first, lanes_splat<RayLanes>(1.0f) / d_kz);
         }
+        if (shared)
+            classes[class_count++] = {kx, ky, kz, (1u << p.count) - 1};
+        else
+            classify();
     }
 
-    Ray ray_at(uint32_t i) const {
-        Ray r;
-        r.origin = {p.origin[0][i], p.origin[1][i], p.origin[2][i]};
-        r.direction = {p.direction[0][i], p.direction[1][i], p.direction[2][i]};
-        return r;
+    // Each ray's own axes and shear, for a packet whose rays do not share them.
+    void classify() {
+        uint32_t by_axes[3][2] = {};  // [kz][d[kz] < 0]: the rays
+        for (uint32_t first = 0; first < bvh::kPacketSize; first += kRayLanes) {
+            const RayLanes dx = lanes_load<RayLanes>(p.direction[0] + first),
+                           dy = lanes_load<RayLanes>(p.direction[1] + first),
+                           dz = lanes_load<RayLanes>(p.direction[2] + first);
+            const RayLanes x = lanes_abs(dx), y = lanes_abs(dy), z = lanes_abs(dz);
+            const RayMask x_over_y = x > y, on_x = x_over_y & (x > z), on_y = ~x_over_y & (y > z);
+            const RayLanes d_kz = on_x ? dx : on_y ? dy : dz;
+            const RayMask negative = d_kz < lanes_splat<RayLanes>(0.0f);
+            // kx and ky follow kz cyclically (x: y, z; y: z, x; z: x, y),
+            // swapped where d[kz] < 0.
+            const RayLanes next = on_x ? dy : on_y ? dz : dx, after = on_x ? dz : on_y ? dx : dy;
+            lanes_store(sx + first, (negative ? after : next) / d_kz);
+            lanes_store(sy + first, (negative ? next : after) / d_kz);
+            lanes_store(sz + first, lanes_splat<RayLanes>(1.0f) / d_kz);
+            const uint32_t x_bits = lanes_bits(on_x), y_bits = lanes_bits(on_y);
+            const uint32_t axis_bits[3] = {x_bits, y_bits, ~(x_bits | y_bits) & kRayLaneBits};
+            const uint32_t negative_bits = lanes_bits(negative);
+            for (int axis = 0; axis < 3; ++axis) {
+                by_axes[axis][0] |= (axis_bits[axis] & ~negative_bits) << first;
+                by_axes[axis][1] |= (axis_bits[axis] & negative_bits) << first;
+            }
+        }
+        const uint32_t lanes = (1u << p.count) - 1;
+        for (int kz = 0; kz < 3; ++kz)
+            for (int negative = 0; negative < 2; ++negative) {
+                const uint32_t rays = by_axes[kz][negative] & lanes;
+                if (rays == 0) continue;
+                const int next = (kz + 1) % 3, after = (next + 1) % 3;
+                classes[class_count++] = {negative ? after : next, negative ? next : after, kz, rays};
+            }
     }
 
     // Ray i's WatertightRay, as its single-ray query makes it.
     WatertightRay ray(uint32_t i) const {
-        if (!shared) return WatertightRay(ray_at(i));
         WatertightRay r;
-        r.origin = ray_at(i).origin;
-        r.kx = kx, r.ky = ky, r.kz = kz;
+        r.origin = {p.origin[0][i], p.origin[1][i], p.origin[2][i]};
+        const ShearClass* c = classes;
+        while (!(c->rays >> i & 1)) ++c;
+        r.kx = c->kx, r.ky = c->ky, r.kz = c->kz;
         r.sx = sx[i], r.sy = sy[i], r.sz = sz[i];
         return r;
     }
@@ -80,23 +123,25 @@ struct LaneTriangles {
 };
 
 // Bit i set: ray first + i hits the triangle with 0 < t < t_cull[i]; hits.t/u/v
-// lane i then hold its hit. `rays` (kRayLanes bits) says which lanes to test; the
-// others answer nothing. `tri`: a SharedTriangle or LaneTriangles.
+// lane i then hold its hit. `rays` (kRayLanes bits, all of class `axes`) says
+// which lanes to test; the others answer nothing. `tri`: a SharedTriangle or
+// LaneTriangles.
 template <typename Triangle>
 [[gnu::always_inline]] inline uint32_t intersect_triangle_rays(const bvh::PacketRays& p, const PacketShear& s,
-                                                               uint32_t first, uint32_t rays, const Triangle& tri,
-                                                               RaysHits& hits) {
-    const RayLanes ox = lanes_load<RayLanes>(p.origin[s.kx] + first), oy = lanes_load<RayLanes>(p.origin[s.ky] + first),
-                      oz = lanes_load<RayLanes>(p.origin[s.kz] + first);
+                                                               ShearClass axes, uint32_t first, uint32_t rays,
+                                                               const Triangle& tri, RaysHits& hits) {
+    const int kx = axes.kx, ky = axes.ky, kz = axes.kz;
+    const RayLanes ox = lanes_load<RayLanes>(p.origin[kx] + first), oy = lanes_load<RayLanes>(p.origin[ky] + first),
+                   oz = lanes_load<RayLanes>(p.origin[kz] + first);
     const RayLanes sx = lanes_load<RayLanes>(s.sx + first), sy = lanes_load<RayLanes>(s.sy + first);
-    const RayLanes a_z = tri.coordinate(0, s.kz) - oz, b_z = tri.coordinate(1, s.kz) - oz,
-                   c_z = tri.coordinate(2, s.kz) - oz;
-    const RayLanes ax = (tri.coordinate(0, s.kx) - ox) - sx * a_z;
-    const RayLanes ay = (tri.coordinate(0, s.ky) - oy) - sy * a_z;
-    const RayLanes bx = (tri.coordinate(1, s.kx) - ox) - sx * b_z;
-    const RayLanes by = (tri.coordinate(1, s.ky) - oy) - sy * b_z;
-    const RayLanes cx = (tri.coordinate(2, s.kx) - ox) - sx * c_z;
-    const RayLanes cy = (tri.coordinate(2, s.ky) - oy) - sy * c_z;
+    const RayLanes a_z = tri.coordinate(0, kz) - oz, b_z = tri.coordinate(1, kz) - oz,
+                   c_z = tri.coordinate(2, kz) - oz;
+    const RayLanes ax = (tri.coordinate(0, kx) - ox) - sx * a_z;
+    const RayLanes ay = (tri.coordinate(0, ky) - oy) - sy * a_z;
+    const RayLanes bx = (tri.coordinate(1, kx) - ox) - sx * b_z;
+    const RayLanes by = (tri.coordinate(1, ky) - oy) - sy * b_z;
+    const RayLanes cx = (tri.coordinate(2, kx) - ox) - sx * c_z;
+    const RayLanes cy = (tri.coordinate(2, ky) - oy) - sy * c_z;
 
     const RayLanes e0 = cx * by - cy * bx;
     const RayLanes e1 = ax * cy - ay * cx;
