@@ -125,9 +125,12 @@ struct MaskedPending {
 // alone, its single-ray traversal starting there: a child test of a whole
 // register for a few rays wastes it. As Embree's hybrid kernels switch
 // (their switchThreshold). Over 0, 1, 2, 4, 6, 8 and 11, 4-8 served soft
-// shadows best (1.15-1.2 of Embree-16 against 0.85-0.95 at 0), and hard
-// ones alike.
-inline constexpr uint32_t kSingleRays = 6;
+// shadows best (1.15-1.2 of Embree-16 against 0.85-0.95 at 0). Measured
+// again once leaves took each shear class a triangle at a time, over 0, 1,
+// 2, 3, 6, 8 and 10: hard shadows from 1.00-1.05 of Embree-16 at 6 to
+// 1.03-1.11 at 3 (bunny, dragon_3, dragon_1, the teapot), as fast at 1 and
+// 2; soft ones alike at 3 and 6 (1.26-1.29), slower below.
+inline constexpr uint32_t kSingleRays = 3;
 
 // Starts with the rays in `active`. cull(rows) gives the children some ray
 // may enter (a superset: each ray's own test follows), from a node's plane
