@@ -9,7 +9,7 @@
 // for the whole packet, so that the per-ray tests go to the children some
 // ray can reach: the interval test, around the rays or around them run
 // backwards from where they end (reverse_segments), else the box around
-// their segments.
+// their segments and intervals that allow for mixed signs (mixed_intervals).
 //
 // This replaced, for shadow rays, a frustum around the packet (Reshetov et
 // al., 2005) with one plane test per node and per-ray tests at the leaves
@@ -110,6 +110,83 @@ struct MaskedPending {
     }
     reach = lanes_high(s.t_high) * (1.0f + 1e-5f);
     return bound_rays(iv, end_low, end_high, inv_low, inv_high, bvh::PacketRays::kMaxSpread);
+}
+
+// Intervals around rays whose directions differ in sign along some axis,
+// which the interval test (bound_rays) refuses: a light's samples from one
+// point, seen straight along an axis. Along such an axis each ray still
+// enters a box no earlier than where it crosses the box's near face, the
+// lower one for the rays that rise and the upper for those that fall, so
+// the larger of the two bounds of those crossings bounds every ray that
+// enters at all; the axis bounds no exit. The other axes are bound_rays'.
+struct MixedIntervals {
+    // Per axis, a node's rows: two entry bounds, (row - origin) * inverse,
+    // and an exit bound, raised to at least far_floor (+infinity: none).
+    uint32_t near_row[3], other_row[3], far_row[3];
+    float near_origin[3], other_origin[3], far_origin[3];
+    float near_inv[3], other_inv[3], far_inv[3];
+    float far_floor[3];
+};
+
+// The packet's rays, their origins and reciprocals as `s` and p bound them.
+// Rounding is monotone: a ray's reciprocal is at least the smallest
+// positive one, or at most the largest negative one, as computed, so the
+// products bound each ray's rounded distances as packet_box_test's do.
+[[gnu::always_inline]] inline MixedIntervals mixed_intervals(const bvh::PacketRays& p, const SegmentLanes& s) {
+    MixedIntervals m;
+    constexpr uint32_t kUpper = 3 * bvh::kWideWidth;
+    for (int axis = 0; axis < 3; ++axis) {
+        RayLanes rising = lanes_splat<RayLanes>(kInfinity), falling = lanes_splat<RayLanes>(-kInfinity);
+        for (uint32_t first = 0; first < bvh::kPacketSize; first += kRayLanes) {
+            const RayLanes inv = lanes_load<RayLanes>(p.inv_direction[axis] + first);
+            const RayLanes zero = lanes_splat<RayLanes>(0.0f);
+            rising = lanes_min(rising, inv > zero ? inv : lanes_splat<RayLanes>(kInfinity));
+            falling = lanes_max(falling, inv < zero ? inv : lanes_splat<RayLanes>(-kInfinity));
+        }
+        // The smallest positive reciprocal and the largest negative one.
+        const float rise = lanes_low(rising), fall = lanes_high(falling);
+        const float origin_low = lanes_low(s.origin_low[axis]), origin_high = lanes_high(s.origin_high[axis]);
+        const uint32_t lower = uint32_t(axis) * bvh::kWideWidth, upper = lower + kUpper;
+        // One sign: bound_rays' planes, with no limit to the spread.
+        if (rise == kInfinity) {  // every ray falls
+            const float steepest = -lanes_high(s.back_inv_high[axis]);  // the most negative reciprocal
+            m.near_row[axis] = m.other_row[axis] = upper, m.far_row[axis] = lower;
+            m.near_origin[axis] = m.other_origin[axis] = origin_low, m.far_origin[axis] = origin_high;
+            m.near_inv[axis] = m.other_inv[axis] = fall, m.far_inv[axis] = steepest * bvh::kExitScale;
+            m.far_floor[axis] = -kInfinity;
+        } else if (fall == -kInfinity) {  // every ray rises
+            const float steepest = -lanes_low(s.back_inv_low[axis]);  // the largest reciprocal
+            m.near_row[axis] = m.other_row[axis] = lower, m.far_row[axis] = upper;
+            m.near_origin[axis] = m.other_origin[axis] = origin_high, m.far_origin[axis] = origin_low;
+            m.near_inv[axis] = m.other_inv[axis] = rise, m.far_inv[axis] = steepest * bvh::kExitScale;
+            m.far_floor[axis] = -kInfinity;
+        } else {
+            m.near_row[axis] = lower, m.other_row[axis] = upper, m.far_row[axis] = lower;
+            m.near_origin[axis] = origin_high, m.other_origin[axis] = origin_low, m.far_origin[axis] = 0.0f;
+            m.near_inv[axis] = rise, m.other_inv[axis] = fall, m.far_inv[axis] = 1.0f;
+            m.far_floor[axis] = kInfinity;
+        }
+    }
+    return m;
+}
+
+// Bit i: some ray may enter child i's box before `reach` (MixedIntervals).
+[[gnu::always_inline]] inline uint32_t mixed_box_test(const float* rows, const MixedIntervals& m, float reach) {
+    NodeLanes enter = lanes_splat<NodeLanes>(0.0f);
+    NodeLanes exit = lanes_splat<NodeLanes>(reach);
+    for (int axis = 0; axis < 3; ++axis) {
+        const NodeLanes near = (lanes_load<NodeLanes>(rows + m.near_row[axis]) - m.near_origin[axis]) * m.near_inv[axis];
+        const NodeLanes other =
+            (lanes_load<NodeLanes>(rows + m.other_row[axis]) - m.other_origin[axis]) * m.other_inv[axis];
+        // max with the floor second: a NaN product (an empty slot's infinite
+        // plane times 0) gives the floor.
+        const NodeLanes far = lanes_max((lanes_load<NodeLanes>(rows + m.far_row[axis]) - m.far_origin[axis]) *
+                                            m.far_inv[axis],
+                                        lanes_splat<NodeLanes>(m.far_floor[axis]));
+        enter = lanes_max(enter, lanes_max(near, other));
+        exit = lanes_min(exit, far);
+    }
+    return lanes_entered(enter, exit, lanes_splat<NodeLanes>(reach));
 }
 
 // Bit i: child i is no empty slot. For packets with no bounded box to cull by.

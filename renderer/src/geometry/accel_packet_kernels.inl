@@ -218,7 +218,8 @@ template <bool kMoving>
     };
     // Nodes culled by the tightest bound the rays allow: the intervals
     // around them, or around them run backwards from where they end, or the
-    // box around their segments, or else only the empty slots.
+    // box around their segments with intervals of mixed signs, or else only
+    // the empty slots.
     const auto by_intervals = [&](const bvh::PacketIntervals& iv, float reach) {
         return occlude_masked<kMoving>(data.bvh, p, active, [&](const float* rows) {
             alignas(32) float t_entry[bvh::kWideWidth];
@@ -230,9 +231,19 @@ template <bool kMoving>
     if (!segment_lanes(segments, p)) return occlude_masked<kMoving>(data.bvh, p, active, occupied_slots, leaf_test, single_test);
     bvh::PacketIntervals reversed;
     if (float reach; reverse_segments(reversed, reach, segments)) return by_intervals(reversed, reach);
+    // Rays whose directions differ in sign along some axis: the box of their
+    // segments and the intervals that allow for it (mixed_intervals), which
+    // cut soft shadows' candidates where the box alone let the whole slab
+    // between the point and the light through. 1T against Embree-16: the
+    // teapot's soft shadows 0.84 -> 0.90, bunny 1.25 -> 1.32, dragon_3
+    // 1.24 -> 1.33; the intervals alone were as fast on these, but looser
+    // than the box for rays from many points around a light among them.
     const SegmentBox box = segment_box(segments);
-    return occlude_masked<kMoving>(data.bvh, p, active, [&](const float* rows) { return segment_box_test(rows, box); },
-                                   leaf_test, single_test);
+    const MixedIntervals mixed = mixed_intervals(p, segments);
+    const float reach = packet_reach(p, active);
+    return occlude_masked<kMoving>(data.bvh, p, active, [&](const float* rows) {
+        return mixed_box_test(rows, mixed, reach) & segment_box_test(rows, box);
+    }, leaf_test, single_test);
 }
 
 bool intersect_packet_with(const AccelScene& accel, const Ray* rays, uint32_t count, Hit* hits) {
