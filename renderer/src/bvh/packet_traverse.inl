@@ -109,13 +109,18 @@ struct PacketPending {
 // bounds of where in t_entry (packet_box_test). leaf_test(first_block,
 // block_count, rays) tests the leaf's primitives against the rays (a mask)
 // that enter its box, and lowers their p.t_max (and t_cull) to the hits it
-// finds. Starts with the rays in `active`. (Shadow rays take
+// finds. prefetch_leaf(leaf) starts fetching a leaf's primitives as it is
+// put aside, as the single-ray traversal does: 1T against Embree-16, camera
+// packets on dragon_1 went from 1.04 to 1.12, the donut's from 0.99 to
+// 1.01, against fetching each leaf as it is reached. Shadow packets, which
+// often stop before the leaves they put aside, lost 4-6% the same way and
+// fetch at the leaf. Starts with the rays in `active`. (Shadow rays take
 // packet_masked_traverse.inl.)
-template <typename NodeTest, typename LeafTest>
+template <typename NodeTest, typename LeafTest, typename PrefetchLeaf>
 [[gnu::always_inline]] inline void traverse_packet(const bvh::WideBvh& bvh, bvh::PacketRays& p, uint32_t active,
-                                                   NodeTest&& node_test, LeafTest&& leaf_test) {
+                                                   NodeTest&& node_test, LeafTest&& leaf_test,
+                                                   PrefetchLeaf&& prefetch_leaf) {
     if (bvh.empty() || active == 0) return;
-    const auto no_prefetch = [](bvh::ChildRef) {};
     float reach = packet_reach(p, active);
     PacketPending stack[bvh::kWideStackSize];
     uint32_t stack_size = 0;
@@ -136,7 +141,7 @@ template <typename NodeTest, typename LeafTest>
                         uint32_t far = uint32_t(__builtin_ctz(rest));
                         // Ties go to the lower slot, as the sort's keys order them.
                         if (t_entry[far] < t_entry[near]) std::swap(near, far);
-                        prefetch_child(bvh, node.child[far], no_prefetch);
+                        prefetch_child(bvh, node.child[far], prefetch_leaf);
                         stack[stack_size++] = {node.child[far].bits, t_entry[far], parent, far};
                     }
                     current = {node.child[near].bits, t_entry[near], parent, near};
@@ -156,7 +161,7 @@ template <typename NodeTest, typename LeafTest>
                 }
                 for (uint32_t i = 0; i + 1 < count; ++i) {
                     const uint32_t s = uint32_t(keys[i]);
-                    prefetch_child(bvh, node.child[s], no_prefetch);
+                    prefetch_child(bvh, node.child[s], prefetch_leaf);
                     stack[stack_size++] = {node.child[s].bits, t_entry[s], parent, s};
                 }
                 const uint32_t s = uint32_t(keys[count - 1]);

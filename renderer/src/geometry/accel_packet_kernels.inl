@@ -148,7 +148,6 @@ template <bool kMoving>
     };
     traverse_packet(data.bvh, p, (1u << p.count) - 1, intervals, [&](uint32_t first_block, uint32_t block_count,
                                                                      uint32_t in) {
-        prefetch_blocks<kMoving>(data, bvh::ChildRef::leaf(first_block, block_count));
         in &= ~leaf_classes(shear, in, kRaysPerTriangleTest, [&](const ShearClass& axes, uint32_t rays) {
             leaf_by_triangle<kMoving>(data, p, shear, axes, first_block, block_count, rays,
                                       [&](uint32_t first, uint32_t hit, uint32_t triangle, const RaysHits& found) {
@@ -167,7 +166,7 @@ template <bool kMoving>
             }
         }
 
-    });
+    }, [&](bvh::ChildRef leaf) { prefetch_blocks<kMoving>(data, leaf); });
     for (uint32_t r = 0; r < p.count; ++r)
         if (nearest.primitive[r] != kNoPrimitive)
             hits[r] = {p.t_max[r], nearest.primitive[r], nearest.u[r], nearest.v[r]};
