@@ -41,10 +41,9 @@ template <typename PrefetchLeaf>
 }
 
 // Pushes the children in `hits` (two or more) farthest first, and returns the nearest.
-template <typename PrefetchLeaf>
-[[gnu::always_inline]] inline bvh::ChildRef push_sorted(const bvh::WideBvh& bvh, const bvh::WideNode& node,
-                                                        uint32_t hits, const float* t_entry, WidePending* stack,
-                                                        uint32_t& stack_size, PrefetchLeaf& prefetch_leaf) {
+[[gnu::always_inline]] inline bvh::ChildRef push_sorted(const bvh::WideNode& node, uint32_t hits,
+                                                        const float* t_entry, WidePending* stack,
+                                                        uint32_t& stack_size) {
     // Entry distances are >= +0, so their bit patterns sort as the distances do;
     // the slot in the low bits breaks ties.
     const auto key_of = [&](uint32_t slot) {
@@ -58,7 +57,6 @@ template <typename PrefetchLeaf>
         const uint32_t a = uint32_t(__builtin_ctz(hits)), b = uint32_t(__builtin_ctz(rest));
         const bool a_nearer = key_of(a) < key_of(b);
         const uint32_t near = a_nearer ? a : b, far = a_nearer ? b : a;
-        prefetch_child(bvh, node.child[far], prefetch_leaf);
         stack[stack_size++] = {node.child[far].bits, t_entry[far]};
         return node.child[near];
     }
@@ -73,7 +71,6 @@ template <typename PrefetchLeaf>
     }
     for (uint32_t i = 0; i + 1 < count; ++i) {
         const uint32_t slot = uint32_t(keys[i]);
-        prefetch_child(bvh, node.child[slot], prefetch_leaf);
         stack[stack_size++] = {node.child[slot].bits, t_entry[slot]};
     }
     return node.child[uint32_t(keys[count - 1])];
@@ -117,7 +114,13 @@ template <bvh::Query query, bool kMoving, typename LeafTest, typename PrefetchLe
                         stack[stack_size++] = {child.bits, 0.0f};
                     }
                 } else {
-                    current = push_sorted(bvh, node, hits, t_entry, stack, stack_size, prefetch_leaf);
+                    // Every child the ray enters is fetched before the sort,
+                    // not as it is put aside: diffuse rays on dragon_1, 1T
+                    // against rtcIntersect1, 1.02 (0.99-1.07) -> 1.08
+                    // (1.02-1.08) over 3 runs, the other queries alike.
+                    for (uint32_t rest = hits; rest != 0; rest &= rest - 1)
+                        prefetch_child(bvh, node.child[__builtin_ctz(rest)], prefetch_leaf);
+                    current = push_sorted(node, hits, t_entry, stack, stack_size);
                 }
                 continue;
             }
