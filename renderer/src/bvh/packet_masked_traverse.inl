@@ -178,8 +178,8 @@ struct MixedIntervals {
         const NodeLanes near = (lanes_load<NodeLanes>(rows + m.near_row[axis]) - m.near_origin[axis]) * m.near_inv[axis];
         const NodeLanes other =
             (lanes_load<NodeLanes>(rows + m.other_row[axis]) - m.other_origin[axis]) * m.other_inv[axis];
-        // max with the floor second: a NaN product (an empty slot's infinite
-        // plane times 0) gives the floor.
+        // A floor of +infinity (an axis of both signs) wins over any
+        // product, an empty slot's infinite planes included.
         const NodeLanes far = lanes_max((lanes_load<NodeLanes>(rows + m.far_row[axis]) - m.far_origin[axis]) *
                                             m.far_inv[axis],
                                         lanes_splat<NodeLanes>(m.far_floor[axis]));
