@@ -35,22 +35,23 @@ inline constexpr uint32_t kShadowRaysPerTriangleTest = 4;
 template <typename ByTriangle>
 [[gnu::always_inline]] inline uint32_t leaf_classes(const PacketShear& s, uint32_t in, uint32_t at_least,
                                                     ByTriangle&& by_triangle) {
-    if (s.class_count == 1) {
-        uint32_t rays = 0;
+    // The rays of `rays` in registers that hold at least at_least of them.
+    const auto crowded = [&](uint32_t rays) {
+        uint32_t crowd = 0;
         for (uint32_t first = 0; first < bvh::kPacketSize; first += kRayLanes) {
-            const uint32_t group = in & (kRayLaneBits << first);
-            if (uint32_t(__builtin_popcount(group)) >= at_least) rays |= group;
+            const uint32_t group = rays & (kRayLaneBits << first);
+            if (uint32_t(__builtin_popcount(group)) >= at_least) crowd |= group;
         }
+        return crowd;
+    };
+    if (s.class_count == 1) {
+        const uint32_t rays = crowded(in);
         if (rays != 0) by_triangle(s.classes[0], rays);
         return rays;
     }
     uint32_t handed = 0;
     for (uint32_t c = 0; c < s.class_count; ++c) {
-        uint32_t rays = 0;
-        for (uint32_t first = 0; first < bvh::kPacketSize; first += kRayLanes) {
-            const uint32_t group = in & s.classes[c].rays & (kRayLaneBits << first);
-            if (uint32_t(__builtin_popcount(group)) >= at_least) rays |= group;
-        }
+        const uint32_t rays = crowded(in & s.classes[c].rays);
         if (rays == 0) continue;
         by_triangle(s.classes[c], rays);
         handed |= rays;

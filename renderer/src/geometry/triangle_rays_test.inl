@@ -31,35 +31,8 @@ struct PacketShear {
     alignas(64) float sz[bvh::kPacketSize];
 
     // WatertightRay's choice of axes (max_dimension's comparisons) and its
-    // shear, lane by lane: the same divisions, so the same numbers. Ray 0's
-    // axes first, which all the rays share but in a few packets.
+    // shear, lane by lane: the same divisions, so the same numbers.
     explicit PacketShear(const bvh::PacketRays& packet) : p(packet) {
-        const WatertightRay ray0(Ray{{p.origin[0][0], p.origin[1][0], p.origin[2][0]},
-                                     {p.direction[0][0], p.direction[1][0], p.direction[2][0]}});
-        const int kx = ray0.kx, ky = ray0.ky, kz = ray0.kz;
-        const bool negative0 = p.direction[kz][0] < 0.0f;
-        bool shared = true;
-        for (uint32_t first = 0; first < bvh::kPacketSize; first += kRayLanes) {
-            const RayLanes x = lanes_abs(lanes_load<RayLanes>(p.direction[0] + first)),
-                           y = lanes_abs(lanes_load<RayLanes>(p.direction[1] + first)),
-                           z = lanes_abs(lanes_load<RayLanes>(p.direction[2] + first));
-            const RayMask x_over_y = x > y, on_x = x_over_y & (x > z), on_y = ~x_over_y & (y > z);
-            const RayMask on_kz = kz == 0 ? on_x : kz == 1 ? on_y : ~(on_x | on_y);
-            const RayLanes d_kz = lanes_load<RayLanes>(p.direction[kz] + first);
-            const RayMask negative = d_kz < lanes_splat<RayLanes>(0.0f);
-            shared = shared && lanes_bits(on_kz & (negative0 ? negative : ~negative)) == kRayLaneBits;
-            lanes_store(sx + first, lanes_load<RayLanes>(p.direction[kx] + first) / d_kz);
-            lanes_store(sy + first, lanes_load<RayLanes>(p.direction[ky] + first) / d_kz);
-            lanes_store(sz + first, lanes_splat<RayLanes>(1.0f) / d_kz);
-        }
-        if (shared)
-            classes[class_count++] = {kx, ky, kz, (1u << p.count) - 1};
-        else
-            classify();
-    }
-
-    // Each ray's own axes and shear, for a packet whose rays do not share them.
-    void classify() {
         uint32_t by_axes[3][2] = {};  // [kz][d[kz] < 0]: the rays
         for (uint32_t first = 0; first < bvh::kPacketSize; first += kRayLanes) {
             const RayLanes dx = lanes_load<RayLanes>(p.direction[0] + first),
