@@ -103,7 +103,24 @@ describe("rt viewer", { timeout: 170_000 }, () => {
   });
 
   test("render this view: tiles stream in and the canvas ends equal to image.png", async () => {
-    // Large enough that its tiles arrive over many animation frames.
+    // The job can end before the page opens its socket (2 cores render this in
+    // under a second), and then the server's replay of every tile comes in one
+    // burst that is rightly painted once. So the stream is paced here as a slow
+    // network would pace it, a pause after every 40 messages, in order, the close
+    // last: the canvas must paint tiles as they arrive, whatever the render's speed.
+    await page.routeWebSocket(/\/api\/jobs\/[0-9a-f]+\/tiles/, (socket) => {
+      const server = socket.connectToServer();
+      let forwarded = Promise.resolve();
+      let count = 0;
+      const inOrder = (step) => { forwarded = forwarded.then(step); };
+      server.onMessage((message) => inOrder(async () => {
+        if (count++ % 40 === 0) await new Promise((resolve) => setTimeout(resolve, 60));
+        socket.send(message);
+      }));
+      server.onClose((code, reason) => inOrder(() => socket.close({ code, reason })));
+      socket.onMessage((message) => server.send(message));
+      socket.onClose((code, reason) => server.close({ code, reason }));
+    });
     await page.fill("#setting-width", "1600");
     await page.fill("#setting-height", "1200");
     // Orbit a little so the job's camera is the view's, not the scene's default.
@@ -430,7 +447,7 @@ describe("rt viewer", { timeout: 170_000 }, () => {
     const job = await api("/api/jobs", {
       method: "POST",
       headers: { "Content-Type": "application/json" },
-      body: JSON.stringify({ scene_id: shared.scene, settings: { width: 800, height: 600, samples_per_pixel: 32 } }),
+      body: JSON.stringify({ scene_id: shared.scene, settings: { width: 800, height: 600, samples_per_pixel: 64 } }),
     });
     const asked = [];
     const count = (request) => {
