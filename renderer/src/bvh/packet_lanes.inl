@@ -36,6 +36,15 @@ template <typename Lanes>
     return v;
 }
 
+// The same bits as other lanes of the same size.
+template <typename To, typename From>
+[[gnu::always_inline]] inline To lanes_bitcast(From v) {
+    static_assert(sizeof(To) == sizeof(From));
+    To to;
+    __builtin_memcpy(&to, &v, sizeof to);
+    return to;
+}
+
 template <typename Lanes>
 [[gnu::always_inline]] inline Lanes lanes_splat(float x) {
     return Lanes{} + x;

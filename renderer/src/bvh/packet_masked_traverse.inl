@@ -109,7 +109,7 @@ struct MaskedPending {
         inv_low[axis] = lanes_low(s.back_inv_low[axis]), inv_high[axis] = lanes_high(s.back_inv_high[axis]);
     }
     reach = lanes_high(s.t_high) * (1.0f + 1e-5f);
-    return bound_rays(iv, end_low, end_high, inv_low, inv_high, bvh::PacketRays::kMaxSpread);
+    return bound_rays(iv, end_low, end_high, inv_low, inv_high, bvh::PacketRays::kMaxReversedSpread);
 }
 
 // Intervals around rays whose directions differ in sign along some axis,

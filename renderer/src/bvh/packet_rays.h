@@ -37,13 +37,20 @@ struct PacketIntervals {
 
 struct PacketRays {
     // The largest ratio of the reciprocals along one axis that load_packet()
-    // accepts for closest hits: 1.5 and 4 traced the 4 x 4 camera rays of the
-    // dragons alike. Shadow packets take any spread: the intervals only cull
-    // the children each ray then tests on its own, and a loose cull still
-    // beat the box of the segments. On a light's samples from one point
-    // (bvh_bench's soft shadows, 1T against Embree-16): bunny 1.13 -> 1.19,
-    // dragon_3 1.11 -> 1.17, teapot 0.70 -> 0.76.
-    static constexpr float kMaxSpread = 2.0f;
+    // accepts for closest hits. The 4 x 4 camera blocks beside the view's
+    // centre lines spread 7 (pixel centres 0.5 to 3.5 from the line): at 2
+    // they went ray by ray, 0.8% of bvh_bench's camera packets, and the
+    // Cornell box's camera packets went from 0.84 to 0.88 of Embree-16 at 8
+    // (1T), the dragons' alike; with no limit the bunny's lost 1-2%.
+    // Shadow packets take any spread: the intervals only cull the children
+    // each ray then tests on its own, and a loose cull still beat the box of
+    // the segments. On a light's samples from one point (bvh_bench's soft
+    // shadows, 1T against Embree-16): bunny 1.13 -> 1.19, dragon_3 1.11 ->
+    // 1.17, teapot 0.70 -> 0.76.
+    static constexpr float kMaxSpread = 8.0f;
+    // The same for shadow rays run backwards from the light they meet at
+    // (reverse_segments): the limit its hard-shadow figures were measured at.
+    static constexpr float kMaxReversedSpread = 2.0f;
 
     uint32_t count = 0;
     // Each ray, and its WideBoxRay constants, structure of arrays; lanes
@@ -56,9 +63,14 @@ struct PacketRays {
     // it by bvh::tie_reach once a closest-hit query has found a triangle.
     alignas(64) float t_cull[kPacketSize];
     // Each ray's moment in the shutter interval (a moving tree's boxes and
-    // triangles are taken at it), and the earliest and latest of them.
+    // triangles are taken at it), and for a moving tree the earliest and
+    // latest of them (load_time_range).
     alignas(64) float time[kPacketSize];
     float time_low, time_high;
+    // Every ray starts at the same point, bit for bit (a pinhole camera's
+    // rays, a light's samples from one hit): a triangle's vertices are then
+    // moved to it once for all of them (triangle_rays_test.inl).
+    bool shared_origin = false;
     // Bounds of all the rays, when load_packet finds that they bound them.
     PacketIntervals intervals;
 };

@@ -113,7 +113,9 @@ inline bool bound_rays(bvh::PacketIntervals& iv, const float origin_low[3], cons
     // Rays from many points in many directions (shadow rays from a tile's
     // hits) do not: each axis' bounds then pair one ray's origin with
     // another's reciprocal, and on the full dragon such packets were 2.5
-    // times slower than their rays one by one.
+    // times slower than their rays one by one. Origins are compared as bits:
+    // -0 and +0 are equal numbers that a vertex's coordinate less them may
+    // tell apart (PacketRays::shared_origin).
     RayMask same_origin = RayMask{} - 1, same_direction = same_origin;
     const RayLanes zero = lanes_splat<RayLanes>(0.0f), infinity = lanes_splat<RayLanes>(kInfinity);
     RayMask usable = same_origin;
@@ -124,7 +126,7 @@ inline bool bound_rays(bvh::PacketIntervals& iv, const float origin_low[3], cons
             const RayLanes o = column[g][axis], d = column[g][3 + axis];
             const RayLanes inv = lanes_splat<RayLanes>(1.0f) / d;
             lanes_store(p.inv_direction[axis] + first, inv);
-            same_origin &= o == o0;
+            same_origin &= lanes_bitcast<RayUints>(o) == lanes_bitcast<RayUints>(o0);
             same_direction &= d == d0;
             usable &= (lanes_abs(o) < infinity) & (lanes_abs(inv) < infinity) & (inv != zero);
             o_low[axis] = first == 0 ? o : lanes_min(o_low[axis], o);
@@ -134,19 +136,35 @@ inline bool bound_rays(bvh::PacketIntervals& iv, const float origin_low[3], cons
         }
     }
     if (lanes_bits(usable) != kRayLaneBits) return PacketLoad::refused;
-    RayLanes time_low = column[0][7], time_high = time_low;
-    for (uint32_t g = 1; g < kGroups; ++g) {
-        time_low = lanes_min(time_low, column[g][7]);
-        time_high = lanes_max(time_high, column[g][7]);
-    }
-    p.time_low = lanes_low(time_low), p.time_high = lanes_high(time_high);
-    if (lanes_bits(same_origin) != kRayLaneBits && lanes_bits(same_direction) != kRayLaneBits) return PacketLoad::rays;
+    p.shared_origin = lanes_bits(same_origin) == kRayLaneBits;
+    const bool shared_direction = lanes_bits(same_direction) == kRayLaneBits;
+    if (!p.shared_origin && !shared_direction) return PacketLoad::rays;
+    // A shared origin or direction is its own bound: no reduction across the lanes.
     float origin_low[3], origin_high[3], reciprocal_low[3], reciprocal_high[3];
     for (int axis = 0; axis < 3; ++axis) {
-        origin_low[axis] = lanes_low(o_low[axis]), origin_high[axis] = lanes_high(o_high[axis]);
-        reciprocal_low[axis] = lanes_low(inv_low[axis]), reciprocal_high[axis] = lanes_high(inv_high[axis]);
+        if (p.shared_origin) {
+            origin_low[axis] = origin_high[axis] = p.origin[axis][0];
+        } else {
+            origin_low[axis] = lanes_low(o_low[axis]), origin_high[axis] = lanes_high(o_high[axis]);
+        }
+        if (shared_direction) {
+            reciprocal_low[axis] = reciprocal_high[axis] = p.inv_direction[axis][0];
+        } else {
+            reciprocal_low[axis] = lanes_low(inv_low[axis]), reciprocal_high[axis] = lanes_high(inv_high[axis]);
+        }
     }
     if (!bound_rays(p.intervals, origin_low, origin_high, reciprocal_low, reciprocal_high, max_spread))
         return PacketLoad::rays;
     return PacketLoad::intervals;
+}
+
+// The earliest and latest of the rays' times, which a moving tree's nodes are
+// swept over (swept_rows); a still tree never reads them.
+[[gnu::always_inline]] inline void load_time_range(bvh::PacketRays& p) {
+    RayLanes low = lanes_load<RayLanes>(p.time), high = low;
+    for (uint32_t first = kRayLanes; first < bvh::kPacketSize; first += kRayLanes) {
+        low = lanes_min(low, lanes_load<RayLanes>(p.time + first));
+        high = lanes_max(high, lanes_load<RayLanes>(p.time + first));
+    }
+    p.time_low = lanes_low(low), p.time_high = lanes_high(high);
 }

@@ -66,11 +66,14 @@ template <typename ByTriangle>
 // `hits`; it returns the bits of the rays that leave the packet. Returns the
 // rays left in `in`. In a moving tree each ray meets the triangle where it
 // is at the ray's time, moved by lerp_block's arithmetic.
-template <bool kMoving, typename Found>
+template <bool kMoving, bool kSharedOrigin = false, typename Found>
 [[gnu::always_inline]] inline uint32_t leaf_by_triangle(const AccelData& data, const bvh::PacketRays& p,
                                                         const PacketShear& s, ShearClass axes,
                                                         uint32_t first_block, uint32_t block_count, uint32_t in,
                                                         Found&& found) {
+    if constexpr (!kMoving && !kSharedOrigin)
+        if (p.shared_origin)
+            return leaf_by_triangle<false, true>(data, p, s, axes, first_block, block_count, in, found);
     for (uint32_t b = first_block; b < first_block + block_count; ++b) {
         const TriangleBlock& block = data.blocks[b];
         for (uint32_t lane = 0; lane < bvh::kBlockWidth; ++lane) {
@@ -88,9 +91,9 @@ template <bool kMoving, typename Found>
                     for (int k = 0; k < 3; ++k)
                         for (int axis = 0; axis < 3; ++axis)
                             moved.c[k][axis] = block.v[k][axis][lane] + time * motion.v[k][axis][lane];
-                    hit = intersect_triangle_rays(p, s, axes, first, rays, moved, hits);
+                    hit = intersect_triangle_rays<false>(p, s, axes, first, rays, moved, hits);
                 } else {
-                    hit = intersect_triangle_rays(p, s, axes, first, rays, still, hits);
+                    hit = intersect_triangle_rays<kSharedOrigin>(p, s, axes, first, rays, still, hits);
                 }
                 if (hit) in &= ~(found(first, hit, block.triangle(lane), hits) << first);
                 if (in == 0) return 0;
@@ -257,10 +260,12 @@ bool intersect_packet_with(const AccelScene& accel, const Ray* rays, uint32_t co
     if (spheres)
         for (uint32_t i = 0; i < count; ++i)
             p.t_max[i] = p.t_cull[i] = nearest_sphere(*accel.scene, rays[i], hits[i]).t_max;
-    if (accel.world.moving)
+    if (accel.world.moving) {
+        load_time_range(p);
         closest_packet<true>(accel.world, p, hits, !spheres);
-    else
+    } else {
         closest_packet<false>(accel.world, p, hits, !spheres);
+    }
     return true;
 }
 
@@ -279,6 +284,7 @@ bool visibility_packet_with(const AccelScene& accel, const Ray* rays, uint32_t c
     if (!accel.scene->spheres.empty())
         for (uint32_t i = 0; i < count; ++i)
             if (sphere_blocks(*accel.scene, rays[i])) visibility[i] = 0.0f, active &= ~(1u << i);
+    if (accel.world.moving) load_time_range(p);
     uint32_t stopped = accel.world.moving ? occluded_packet<true>(accel.world, p, load, active)
                                           : occluded_packet<false>(accel.world, p, load, active);
     for (; stopped != 0; stopped &= stopped - 1) visibility[__builtin_ctz(stopped)] = 0.0f;

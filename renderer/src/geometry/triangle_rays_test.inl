@@ -47,7 +47,11 @@ struct PacketShear {
             const RayLanes next = on_x ? dy : on_y ? dz : dx, after = on_x ? dz : on_y ? dx : dy;
             lanes_store(sx + first, (negative ? after : next) / d_kz);
             lanes_store(sy + first, (negative ? next : after) / d_kz);
-            lanes_store(sz + first, lanes_splat<RayLanes>(1.0f) / d_kz);
+            // 1 / d[kz] is the reciprocal load_packet divided already.
+            const RayLanes inv_x = lanes_load<RayLanes>(p.inv_direction[0] + first),
+                           inv_y = lanes_load<RayLanes>(p.inv_direction[1] + first),
+                           inv_z = lanes_load<RayLanes>(p.inv_direction[2] + first);
+            lanes_store(sz + first, on_x ? inv_x : on_y ? inv_y : inv_z);
             const uint32_t x_bits = lanes_bits(on_x), y_bits = lanes_bits(on_y);
             const uint32_t axis_bits[3] = {x_bits, y_bits, ~(x_bits | y_bits) & kRayLaneBits};
             const uint32_t negative_bits = lanes_bits(negative);
@@ -99,22 +103,30 @@ struct LaneTriangles {
 // lane i then hold its hit. `rays` (kRayLanes bits, all of class `axes`) says
 // which lanes to test; the others answer nothing. `tri`: a SharedTriangle or
 // LaneTriangles.
-template <typename Triangle>
+// kSharedOrigin: every ray starts at the same point (PacketRays::shared_origin),
+// and the triangle is one for all lanes: each vertex coordinate less the
+// origin is then one subtraction, not one per lane.
+template <bool kSharedOrigin, typename Triangle>
 [[gnu::always_inline]] inline uint32_t intersect_triangle_rays(const bvh::PacketRays& p, const PacketShear& s,
                                                                ShearClass axes, uint32_t first, uint32_t rays,
                                                                const Triangle& tri, RaysHits& hits) {
+    static_assert(!kSharedOrigin || std::is_same_v<Triangle, SharedTriangle>);
     const int kx = axes.kx, ky = axes.ky, kz = axes.kz;
-    const RayLanes ox = lanes_load<RayLanes>(p.origin[kx] + first), oy = lanes_load<RayLanes>(p.origin[ky] + first),
-                   oz = lanes_load<RayLanes>(p.origin[kz] + first);
+    // Vertex k's coordinate along `axis`, relative to each ray's origin.
+    const auto from_origin = [&](int k, int axis) {
+        if constexpr (kSharedOrigin)
+            return lanes_splat<RayLanes>(tri.p[k][axis] - p.origin[axis][0]);
+        else
+            return tri.coordinate(k, axis) - lanes_load<RayLanes>(p.origin[axis] + first);
+    };
     const RayLanes sx = lanes_load<RayLanes>(s.sx + first), sy = lanes_load<RayLanes>(s.sy + first);
-    const RayLanes a_z = tri.coordinate(0, kz) - oz, b_z = tri.coordinate(1, kz) - oz,
-                   c_z = tri.coordinate(2, kz) - oz;
-    const RayLanes ax = (tri.coordinate(0, kx) - ox) - sx * a_z;
-    const RayLanes ay = (tri.coordinate(0, ky) - oy) - sy * a_z;
-    const RayLanes bx = (tri.coordinate(1, kx) - ox) - sx * b_z;
-    const RayLanes by = (tri.coordinate(1, ky) - oy) - sy * b_z;
-    const RayLanes cx = (tri.coordinate(2, kx) - ox) - sx * c_z;
-    const RayLanes cy = (tri.coordinate(2, ky) - oy) - sy * c_z;
+    const RayLanes a_z = from_origin(0, kz), b_z = from_origin(1, kz), c_z = from_origin(2, kz);
+    const RayLanes ax = from_origin(0, kx) - sx * a_z;
+    const RayLanes ay = from_origin(0, ky) - sy * a_z;
+    const RayLanes bx = from_origin(1, kx) - sx * b_z;
+    const RayLanes by = from_origin(1, ky) - sy * b_z;
+    const RayLanes cx = from_origin(2, kx) - sx * c_z;
+    const RayLanes cy = from_origin(2, ky) - sy * c_z;
 
     const RayLanes e0 = cx * by - cy * bx;
     const RayLanes e1 = ax * cy - ay * cx;
