@@ -126,6 +126,16 @@ using LaneBits = decltype(compare_lanes<_CMP_LT_OQ>(RayLanes{}, RayLanes{}));
 [[gnu::always_inline]] inline LaneBits lanes_gt(RayLanes a, RayLanes b) { return compare_lanes<_CMP_GT_OQ>(a, b); }
 [[gnu::always_inline]] inline LaneBits lanes_ge(RayLanes a, RayLanes b) { return compare_lanes<_CMP_GE_OQ>(a, b); }
 
+// The lanes of `m` whose sign bit is set, as compare_lanes gives its verdicts.
+template <typename Mask>
+[[gnu::always_inline]] inline LaneBits lanes_sign_bits(Mask m) {
+    if constexpr (std::is_same_v<LaneBits, uint32_t>) {
+        return lanes_bits(m);
+    } else {
+        return m < 0;
+    }
+}
+
 // Bit i: lane i of `bits` (compare_lanes' verdicts) is true.
 template <typename Bits>
 [[gnu::always_inline]] inline uint32_t lane_bits(Bits bits) {

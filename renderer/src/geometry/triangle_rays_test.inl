@@ -134,10 +134,12 @@ template <bool kSharedOrigin, typename Triangle>
 
     const RayLanes zero = lanes_splat<RayLanes>(0.0f);
     const uint32_t exact_zero = lane_bits(lanes_eq(e0, zero) | lanes_eq(e1, zero) | lanes_eq(e2, zero)) & rays;
-    const LaneBits negative = lanes_lt(e0, zero) | lanes_lt(e1, zero) | lanes_lt(e2, zero);
-    const LaneBits positive = lanes_gt(e0, zero) | lanes_gt(e1, zero) | lanes_gt(e2, zero);
+    // Some edge function below 0 and some above: their sign bits differ,
+    // one bitwise operation for all three where six comparisons stood. The
+    // lanes where one is 0 (of either sign) go to the scalar test below.
+    const RayMask s0 = lanes_bitcast<RayMask>(e0), s1 = lanes_bitcast<RayMask>(e1), s2 = lanes_bitcast<RayMask>(e2);
     const RayLanes det = (e0 + e1) + e2;
-    LaneBits reject = (negative & positive) | lanes_eq(det, zero);
+    LaneBits reject = lanes_sign_bits((s0 | s1 | s2) & ~(s0 & s1 & s2)) | lanes_eq(det, zero);
     // Most rays that reach a leaf miss most of its triangles: leave before
     // the division and the error bound.
     const uint32_t candidates = ~lane_bits(reject) & rays & ~exact_zero;
@@ -147,11 +149,13 @@ template <bool kSharedOrigin, typename Triangle>
         const RayLanes t_max = lanes_load<RayLanes>(p.t_cull + first);
         const RayLanes az = sz * a_z, bz = sz * b_z, cz = sz * c_z;
         const RayLanes t_scaled = (e0 * az + e1 * bz) + e2 * cz;
-        const RayLanes t_max_det = t_max * det;
-        const LaneBits det_negative = lanes_lt(det, zero);
-        const LaneBits out_if_negative = lanes_ge(t_scaled, zero) | lanes_lt(t_scaled, t_max_det);
-        const LaneBits out_if_positive = lanes_le(t_scaled, zero) | lanes_gt(t_scaled, t_max_det);
-        reject |= (det_negative & out_if_negative) | (~det_negative & out_if_positive);
+        // 0 < t_scaled / det < t_max, as t_scaled and t_max * det with det's
+        // sign taken off both (det is not 0 here): negation is exact, so the
+        // comparisons are the scalar test's two cases, bit for bit.
+        const RayMask det_sign = lanes_bitcast<RayMask>(det) & int32_t(0x80000000);
+        const RayLanes t_unsigned = lanes_bitcast<RayLanes>(lanes_bitcast<RayMask>(t_scaled) ^ det_sign);
+        const RayLanes t_max_unsigned = lanes_bitcast<RayLanes>(lanes_bitcast<RayMask>(t_max * det) ^ det_sign);
+        reject |= lanes_le(t_unsigned, zero) | lanes_gt(t_unsigned, t_max_unsigned);
 
         const RayLanes inv_det = lanes_splat<RayLanes>(1.0f) / det;
         const RayLanes t = t_scaled * inv_det;
