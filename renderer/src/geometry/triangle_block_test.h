@@ -80,10 +80,12 @@ inline __m128 max3(__m128 x, __m128 y, __m128 z) { return _mm_max_ps(x, _mm_max_
         uint32_t(_mm_movemask_ps(_mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(e0, zero), _mm_cmpeq_ps(e1, zero)), _mm_cmpeq_ps(e2, zero)))) &
         used_lanes;
 
-    const __m128 negative = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(e0, zero), _mm_cmplt_ps(e1, zero)), _mm_cmplt_ps(e2, zero));
-    const __m128 positive = _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(e0, zero), _mm_cmpgt_ps(e1, zero)), _mm_cmpgt_ps(e2, zero));
+    // Some edge function below 0 and some above: their sign bits differ
+    // (the lanes where one is 0, of either sign, are exact_zero's). Only the
+    // sign bits of `reject` and `accept` are read, by movemask.
+    const __m128 mixed = _mm_andnot_ps(_mm_and_ps(_mm_and_ps(e0, e1), e2), _mm_or_ps(_mm_or_ps(e0, e1), e2));
     const __m128 det = _mm_add_ps(_mm_add_ps(e0, e1), e2);
-    __m128 reject = _mm_or_ps(_mm_and_ps(negative, positive), _mm_cmpeq_ps(det, zero));
+    __m128 reject = _mm_or_ps(mixed, _mm_cmpeq_ps(det, zero));
     // Most blocks a ray is tested against miss all four triangles: leave them
     // before the division and the error bound.
     const uint32_t candidates = ~uint32_t(_mm_movemask_ps(reject)) & used_lanes & ~exact_zero;
@@ -92,11 +94,13 @@ inline __m128 max3(__m128 x, __m128 y, __m128 z) { return _mm_max_ps(x, _mm_max_
     const __m128 az = _mm_mul_ps(r.sz, a_z), bz = _mm_mul_ps(r.sz, b_z), cz = _mm_mul_ps(r.sz, c_z);
     const __m128 t_scaled = _mm_add_ps(_mm_add_ps(_mm_mul_ps(e0, az), _mm_mul_ps(e1, bz)), _mm_mul_ps(e2, cz));
     const __m128 t_max_det = _mm_mul_ps(_mm_set1_ps(t_max), det);
-    const __m128 det_negative = _mm_cmplt_ps(det, zero);
-    const __m128 out_if_negative = _mm_or_ps(_mm_cmpge_ps(t_scaled, zero), _mm_cmplt_ps(t_scaled, t_max_det));
-    const __m128 out_if_positive = _mm_or_ps(_mm_cmple_ps(t_scaled, zero), _mm_cmpgt_ps(t_scaled, t_max_det));
-    reject = _mm_or_ps(reject, _mm_or_ps(_mm_and_ps(det_negative, out_if_negative),
-                                         _mm_andnot_ps(det_negative, out_if_positive)));
+    // 0 < t_scaled / det < t_max, as t_scaled and t_max * det with det's sign
+    // taken off both (det is not 0 where it matters): negation is exact, so
+    // these are the scalar test's two cases, bit for bit.
+    const __m128 det_sign = _mm_and_ps(det, _mm_set1_ps(-0.0f));
+    const __m128 t_unsigned = _mm_xor_ps(t_scaled, det_sign);
+    reject = _mm_or_ps(reject, _mm_or_ps(_mm_cmple_ps(t_unsigned, zero),
+                                         _mm_cmpgt_ps(t_unsigned, _mm_xor_ps(t_max_det, det_sign))));
 
     const __m128 inv_det = _mm_div_ps(_mm_set1_ps(1.0f), det);
     const __m128 t = _mm_mul_ps(t_scaled, inv_det);

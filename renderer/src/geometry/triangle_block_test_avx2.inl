@@ -49,10 +49,12 @@ namespace pair_detail {
     const uint32_t exact_zero =
         uint32_t(_mm256_movemask_ps(_mm256_or_ps(_mm256_or_ps(eq(e0, zero), eq(e1, zero)), eq(e2, zero)))) & used_lanes;
 
-    const __m256 negative = _mm256_or_ps(_mm256_or_ps(lt(e0, zero), lt(e1, zero)), lt(e2, zero));
-    const __m256 positive = _mm256_or_ps(_mm256_or_ps(lt(zero, e0), lt(zero, e1)), lt(zero, e2));
+    // The edge functions' signs differ, and det's sign off both sides of the
+    // distance range, as the SSE test (intersect_block) takes them.
+    const __m256 mixed =
+        _mm256_andnot_ps(_mm256_and_ps(_mm256_and_ps(e0, e1), e2), _mm256_or_ps(_mm256_or_ps(e0, e1), e2));
     const __m256 det = _mm256_add_ps(_mm256_add_ps(e0, e1), e2);
-    __m256 reject = _mm256_or_ps(_mm256_and_ps(negative, positive), eq(det, zero));
+    __m256 reject = _mm256_or_ps(mixed, eq(det, zero));
     const uint32_t candidates = ~uint32_t(_mm256_movemask_ps(reject)) & used_lanes & ~exact_zero;
     if ((candidates | exact_zero) == 0) return 0;
 
@@ -60,13 +62,11 @@ namespace pair_detail {
     const __m256 t_scaled =
         _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(e0, az), _mm256_mul_ps(e1, bz)), _mm256_mul_ps(e2, cz));
     const __m256 t_max_det = _mm256_mul_ps(_mm256_set1_ps(t_max), det);
-    const __m256 det_negative = lt(det, zero);
-    // t_scaled >= 0 is !(t_scaled < 0) only without NaN: the ordered compares
-    // below are the SSE test's cmpge/cmple/cmpgt, which are ordered too.
-    const __m256 out_if_negative = _mm256_or_ps(_mm256_cmp_ps(t_scaled, zero, _CMP_GE_OQ), lt(t_scaled, t_max_det));
-    const __m256 out_if_positive = _mm256_or_ps(le(t_scaled, zero), _mm256_cmp_ps(t_scaled, t_max_det, _CMP_GT_OQ));
-    reject = _mm256_or_ps(reject, _mm256_or_ps(_mm256_and_ps(det_negative, out_if_negative),
-                                               _mm256_andnot_ps(det_negative, out_if_positive)));
+    const __m256 det_sign = _mm256_and_ps(det, _mm256_set1_ps(-0.0f));
+    const __m256 t_unsigned = _mm256_xor_ps(t_scaled, det_sign);
+    // Ordered compares, as the SSE test's cmple/cmpgt: NaN compares false.
+    const __m256 t_max_unsigned = _mm256_xor_ps(t_max_det, det_sign);
+    reject = _mm256_or_ps(reject, _mm256_or_ps(le(t_unsigned, zero), _mm256_cmp_ps(t_unsigned, t_max_unsigned, _CMP_GT_OQ)));
 
     const __m256 inv_det = _mm256_div_ps(_mm256_set1_ps(1.0f), det);
     const __m256 t = _mm256_mul_ps(t_scaled, inv_det);
