@@ -66,7 +66,8 @@ namespace pair_detail {
     const __m256 t_unsigned = _mm256_xor_ps(t_scaled, det_sign);
     // Ordered compares, as the SSE test's cmple/cmpgt: NaN compares false.
     const __m256 t_max_unsigned = _mm256_xor_ps(t_max_det, det_sign);
-    reject = _mm256_or_ps(reject, _mm256_or_ps(le(t_unsigned, zero), _mm256_cmp_ps(t_unsigned, t_max_unsigned, _CMP_GT_OQ)));
+    reject = _mm256_or_ps(reject,
+                          _mm256_or_ps(le(t_unsigned, zero), _mm256_cmp_ps(t_unsigned, t_max_unsigned, _CMP_GT_OQ)));
 
     const __m256 inv_det = _mm256_div_ps(_mm256_set1_ps(1.0f), det);
     const __m256 t = _mm256_mul_ps(t_scaled, inv_det);
