@@ -108,6 +108,8 @@ describe("rt viewer", { timeout: 170_000 }, () => {
     // burst that is rightly painted once. So the stream is paced here as a slow
     // network would pace it, a pause after every 40 messages, in order, the close
     // last: the canvas must paint tiles as they arrive, whatever the render's speed.
+    // The route stays for this page's later tests, whose checks a slower stream
+    // does not change.
     await page.routeWebSocket(/\/api\/jobs\/[0-9a-f]+\/tiles/, (socket) => {
       const server = socket.connectToServer();
       let forwarded = Promise.resolve();

@@ -111,11 +111,9 @@ template <int kPredicate, typename Lanes>
         return a <= b;
     } else if constexpr (kPredicate == _CMP_EQ_OQ) {
         return a == b;
-    } else if constexpr (kPredicate == _CMP_GT_OQ) {
-        return a > b;
     } else {
-        static_assert(kPredicate == _CMP_GE_OQ);
-        return a >= b;
+        static_assert(kPredicate == _CMP_GT_OQ);
+        return a > b;
     }
 }
 using LaneBits = decltype(compare_lanes<_CMP_LT_OQ>(RayLanes{}, RayLanes{}));
@@ -124,7 +122,6 @@ using LaneBits = decltype(compare_lanes<_CMP_LT_OQ>(RayLanes{}, RayLanes{}));
 [[gnu::always_inline]] inline LaneBits lanes_le(RayLanes a, RayLanes b) { return compare_lanes<_CMP_LE_OQ>(a, b); }
 [[gnu::always_inline]] inline LaneBits lanes_eq(RayLanes a, RayLanes b) { return compare_lanes<_CMP_EQ_OQ>(a, b); }
 [[gnu::always_inline]] inline LaneBits lanes_gt(RayLanes a, RayLanes b) { return compare_lanes<_CMP_GT_OQ>(a, b); }
-[[gnu::always_inline]] inline LaneBits lanes_ge(RayLanes a, RayLanes b) { return compare_lanes<_CMP_GE_OQ>(a, b); }
 
 // The lanes of `m` whose sign bit is set, as compare_lanes gives its verdicts.
 template <typename Mask>
