@@ -84,12 +84,15 @@ inline __m128 max3(__m128 x, __m128 y, __m128 z) { return _mm_max_ps(x, _mm_max_
     // (the lanes where one is 0, of either sign, are exact_zero's). Only the
     // sign bits of `reject` and `accept` are read, by movemask.
     const __m128 mixed = _mm_andnot_ps(_mm_and_ps(_mm_and_ps(e0, e1), e2), _mm_or_ps(_mm_or_ps(e0, e1), e2));
-    const __m128 det = _mm_add_ps(_mm_add_ps(e0, e1), e2);
-    __m128 reject = _mm_or_ps(mixed, _mm_cmpeq_ps(det, zero));
+    __m128 reject = mixed;
     // Most blocks a ray is tested against miss all four triangles: leave them
-    // before the division and the error bound.
+    // before det, the division and the error bound.
     const uint32_t candidates = ~uint32_t(_mm_movemask_ps(reject)) & used_lanes & ~exact_zero;
     if ((candidates | exact_zero) == 0) return 0;
+    // The candidates' edge functions are nonzero and of one sign: their sum
+    // is not 0 (rounding takes it no nearer 0 than its largest term), so the
+    // scalar test's det == 0 rejects none of them.
+    const __m128 det = _mm_add_ps(_mm_add_ps(e0, e1), e2);
 
     const __m128 az = _mm_mul_ps(r.sz, a_z), bz = _mm_mul_ps(r.sz, b_z), cz = _mm_mul_ps(r.sz, c_z);
     const __m128 t_scaled = _mm_add_ps(_mm_add_ps(_mm_mul_ps(e0, az), _mm_mul_ps(e1, bz)), _mm_mul_ps(e2, cz));

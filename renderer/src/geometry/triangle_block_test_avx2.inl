@@ -53,10 +53,11 @@ namespace pair_detail {
     // distance range, as the SSE test (intersect_block) takes them.
     const __m256 mixed =
         _mm256_andnot_ps(_mm256_and_ps(_mm256_and_ps(e0, e1), e2), _mm256_or_ps(_mm256_or_ps(e0, e1), e2));
-    const __m256 det = _mm256_add_ps(_mm256_add_ps(e0, e1), e2);
-    __m256 reject = _mm256_or_ps(mixed, eq(det, zero));
+    __m256 reject = mixed;
     const uint32_t candidates = ~uint32_t(_mm256_movemask_ps(reject)) & used_lanes & ~exact_zero;
     if ((candidates | exact_zero) == 0) return 0;
+    // Not 0 for any candidate (intersect_block says why).
+    const __m256 det = _mm256_add_ps(_mm256_add_ps(e0, e1), e2);
 
     const __m256 az = _mm256_mul_ps(sz, a_z), bz = _mm256_mul_ps(sz, b_z), cz = _mm256_mul_ps(sz, c_z);
     const __m256 t_scaled =

@@ -138,13 +138,14 @@ template <bool kSharedOrigin, typename Triangle>
     // one bitwise operation for all three where six comparisons stood. The
     // lanes where one is 0 (of either sign) go to the scalar test below.
     const RayMask s0 = lanes_bitcast<RayMask>(e0), s1 = lanes_bitcast<RayMask>(e1), s2 = lanes_bitcast<RayMask>(e2);
-    const RayLanes det = (e0 + e1) + e2;
-    LaneBits reject = lanes_sign_bits((s0 | s1 | s2) & ~(s0 & s1 & s2)) | lanes_eq(det, zero);
+    LaneBits reject = lanes_sign_bits((s0 | s1 | s2) & ~(s0 & s1 & s2));
     // Most rays that reach a leaf miss most of its triangles: leave before
-    // the division and the error bound.
+    // det, the division and the error bound.
     const uint32_t candidates = ~lane_bits(reject) & rays & ~exact_zero;
     uint32_t hit_lanes = 0;
     if (candidates != 0) {
+        // Not 0 for any candidate (intersect_block says why).
+        const RayLanes det = (e0 + e1) + e2;
         const RayLanes sz = lanes_load<RayLanes>(s.sz + first);
         const RayLanes t_max = lanes_load<RayLanes>(p.t_cull + first);
         const RayLanes az = sz * a_z, bz = sz * b_z, cz = sz * c_z;
