@@ -57,6 +57,11 @@
 // the ray's own choice of planes orders them, bit for bit.
 // `motion`: a moving node's box motion, each ray's box taken at its own time
 // as its single-ray test takes it; null for a still tree.
+// kOneWay: the rays run one way along each axis (a packet the intervals
+// bound), so the intervals' rows are each ray's own near and far planes, as
+// its single-ray test picks them: two products an axis instead of four and
+// their comparisons.
+template <bool kOneWay = false>
 [[gnu::always_inline]] inline uint32_t rays_entering(const bvh::WideNode& node, const bvh::WideBoxes* motion,
                                                      uint32_t slot, const bvh::PacketRays& p, uint32_t rays) {
     uint32_t entering = 0;
@@ -68,6 +73,19 @@
         for (int axis = 0; axis < 3; ++axis) {
             const RayLanes origin = lanes_load<RayLanes>(p.origin[axis] + first);
             const RayLanes inv = lanes_load<RayLanes>(p.inv_direction[axis] + first);
+            if constexpr (kOneWay) {
+                // Rows as offsets from lower[0], as WideBoxRay's.
+                const auto plane = [&](uint32_t row) {
+                    const float at_open = (&node.lower[0][0])[row + slot];
+                    if (!motion) return lanes_splat<RayLanes>(at_open);
+                    return at_open + lanes_load<RayLanes>(p.time + first) * (&motion->lower[0][0])[row + slot];
+                };
+                const RayLanes t_near = (plane(p.intervals.near_row[axis]) - origin) * inv;
+                const RayLanes t_far = (plane(p.intervals.far_row[axis]) - origin) * (inv * bvh::kExitScale);
+                enter = t_near > enter ? t_near : enter;
+                exit = t_far < exit ? t_far : exit;
+                continue;
+            }
             RayLanes lower = lanes_splat<RayLanes>(node.lower[axis][slot]);
             RayLanes upper = lanes_splat<RayLanes>(node.upper[axis][slot]);
             if (motion) {
@@ -170,7 +188,7 @@ template <typename NodeTest, typename LeafTest, typename PrefetchLeaf>
             }
         } else {
             const bvh::WideBoxes* motion = bvh.motion.empty() ? nullptr : &bvh.motion[current.parent];
-            const uint32_t rays = rays_entering(bvh.nodes[current.parent], motion, current.slot, p, active);
+            const uint32_t rays = rays_entering<true>(bvh.nodes[current.parent], motion, current.slot, p, active);
             if (rays != 0) {
                 leaf_test(ref.first_block(), ref.block_count(), rays);
                 reach = packet_reach(p, active);
