@@ -83,8 +83,7 @@ inline __m128 max3(__m128 x, __m128 y, __m128 z) { return _mm_max_ps(x, _mm_max_
     // Some edge function below 0 and some above: their sign bits differ
     // (the lanes where one is 0, of either sign, are exact_zero's). Only the
     // sign bits of `reject` and `accept` are read, by movemask.
-    const __m128 mixed = _mm_andnot_ps(_mm_and_ps(_mm_and_ps(e0, e1), e2), _mm_or_ps(_mm_or_ps(e0, e1), e2));
-    __m128 reject = mixed;
+    __m128 reject = _mm_andnot_ps(_mm_and_ps(_mm_and_ps(e0, e1), e2), _mm_or_ps(_mm_or_ps(e0, e1), e2));
     // Most blocks a ray is tested against miss all four triangles: leave them
     // before det, the division and the error bound.
     const uint32_t candidates = ~uint32_t(_mm_movemask_ps(reject)) & used_lanes & ~exact_zero;

@@ -51,9 +51,8 @@ namespace pair_detail {
 
     // The edge functions' signs differ, and det's sign off both sides of the
     // distance range, as the SSE test (intersect_block) takes them.
-    const __m256 mixed =
+    __m256 reject =
         _mm256_andnot_ps(_mm256_and_ps(_mm256_and_ps(e0, e1), e2), _mm256_or_ps(_mm256_or_ps(e0, e1), e2));
-    __m256 reject = mixed;
     const uint32_t candidates = ~uint32_t(_mm256_movemask_ps(reject)) & used_lanes & ~exact_zero;
     if ((candidates | exact_zero) == 0) return 0;
     // Not 0 for any candidate (intersect_block says why).
