@@ -81,7 +81,7 @@ template <bool kMoving, bool kSharedOrigin = false, typename Found>
         const TriangleBlock& block = data.blocks[b];
         for (uint32_t lane = 0; lane < bvh::kBlockWidth; ++lane) {
             if (!block.lane_used(lane)) continue;
-            const SharedTriangle still{{block.vertex(lane, 0), block.vertex(lane, 1), block.vertex(lane, 2)}};
+            const SharedTriangle still{&block.v[0][0][lane]};
             for (uint32_t first = 0; first < p.count; first += kRayLanes) {
                 const uint32_t rays = (in >> first) & kRayLaneBits;
                 if (rays == 0) continue;
@@ -155,7 +155,7 @@ template <bool kMoving>
     };
     traverse_packet(data.bvh, p, (1u << p.count) - 1, intervals, [&](uint32_t first_block, uint32_t block_count,
                                                                      uint32_t in) {
-        in &= ~leaf_classes(shear, in, kRaysPerTriangleTest, [&](const ShearClass& axes, uint32_t rays) {
+        in &= ~leaf_classes(shear, in, kRaysPerTriangleTest, [&](const ShearClass& axes, uint32_t rays) __attribute__((always_inline)) {
             leaf_by_triangle<kMoving>(data, p, shear, axes, first_block, block_count, rays,
                                       [&](uint32_t first, uint32_t hit, uint32_t triangle, const RaysHits& found) {
                                           keep_nearer(p, nearest, first, hit, triangle, found);
@@ -189,7 +189,7 @@ template <bool kMoving>
                                                               uint32_t block_count, uint32_t in) {
     prefetch_blocks<kMoving>(data, bvh::ChildRef::leaf(first_block, block_count));
     uint32_t stopped = 0;
-    in &= ~leaf_classes(shear, in, kShadowRaysPerTriangleTest, [&](const ShearClass& axes, uint32_t rays) {
+    in &= ~leaf_classes(shear, in, kShadowRaysPerTriangleTest, [&](const ShearClass& axes, uint32_t rays) __attribute__((always_inline)) {
         stopped |= rays & ~leaf_by_triangle<kMoving>(data, p, shear, axes, first_block, block_count, rays,
                                                      [](uint32_t, uint32_t hit, uint32_t, const RaysHits&) {
                                                          return hit;

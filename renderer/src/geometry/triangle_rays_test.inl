@@ -88,10 +88,14 @@ struct RaysHits {
 
 // A triangle's vertices as every lane sees them: one triangle for all rays,
 // or, in a moving scene, each ray's own, the triangle at its time.
+// The shear's axes vary from packet to packet, so coordinates are read by
+// index from the block's rows: a vec3's operator[] took a compare and branch
+// per coordinate.
 struct SharedTriangle {
-    vec3 p[3];
-    RayLanes coordinate(int k, int axis) const { return lanes_splat<RayLanes>(p[k][axis]); }
-    vec3 vertex(int k, uint32_t) const { return p[k]; }
+    const float* v;  // a block's v[0][0] + its lane: vertex k's `axis` coordinate at (3k + axis) rows on
+    float at(int k, int axis) const { return v[(3 * k + axis) * bvh::kBlockWidth]; }
+    RayLanes coordinate(int k, int axis) const { return lanes_splat<RayLanes>(at(k, axis)); }
+    vec3 vertex(int k, uint32_t) const { return {at(k, 0), at(k, 1), at(k, 2)}; }
 };
 struct LaneTriangles {
     RayLanes c[3][3];  // [vertex][axis]
@@ -113,9 +117,10 @@ template <bool kSharedOrigin, typename Triangle>
     static_assert(!kSharedOrigin || std::is_same_v<Triangle, SharedTriangle>);
     const int kx = axes.kx, ky = axes.ky, kz = axes.kz;
     // Vertex k's coordinate along `axis`, relative to each ray's origin.
-    const auto from_origin = [&](int k, int axis) {
+    // (GCC's own attribute: the standard one does not reach a lambda's operator().)
+    const auto from_origin = [&](int k, int axis) __attribute__((always_inline)) {
         if constexpr (kSharedOrigin)
-            return lanes_splat<RayLanes>(tri.p[k][axis] - p.origin[axis][0]);
+            return lanes_splat<RayLanes>(tri.at(k, axis) - p.origin[axis][0]);
         else
             return tri.coordinate(k, axis) - lanes_load<RayLanes>(p.origin[axis] + first);
     };
