@@ -2,9 +2,10 @@
 // against itself gives all-zero error maps and zero metrics; the metrics are
 // the server's (flip-evaluator, as make charts), for the image and a dragged
 // rectangle; the error maps are the EXRs' differences (read by the test's own
-// decoder); the wipe shows A left of the handle and B right; X flips;
-// "Render reference" makes the view's reference, and the view's jobs are
-// plotted as time against error; marking another job replaces it.
+// decoder); the wipe shows A left of the handle and B right; X flips; a B
+// picked while the jobs are listed again is kept; "Render reference" makes
+// the view's reference, and the view's jobs are plotted as time against
+// error; marking another job replaces it.
 import assert from "node:assert/strict";
 import { after, before, describe, test } from "node:test";
 import { ARTIFACTS, dragLine, launch, openPage, screenshot } from "./browser.mjs";
@@ -169,6 +170,23 @@ describe("compare", { timeout: 200_000 }, () => {
     assert.deepEqual(await shownRed(), red("b"));
     await page.keyboard.press("x");
     assert.deepEqual(await shownRed(), red("a"));
+  });
+
+  test("a B picked while A's jobs are listed again is kept", async () => {
+    // The image view lists the jobs again once A's layers have loaded; a pick
+    // made just before, still loading B, once came back empty from that.
+    await page.selectOption("#compare-job", "");
+    await page.waitForFunction(() => window.rt.image.compare.other === null);
+    await page.evaluate((b) => {
+      const compare = window.rt.image.compare;
+      const select = document.getElementById("compare-job");
+      select.value = b;
+      select.dispatchEvent(new Event("change"));
+      return compare.setJob(compare.job);
+    }, jobs.b);
+    await page.waitForFunction((b) => window.rt.image.compare.other === b, jobs.b, { timeout: 30_000 });
+    assert.equal(await page.$eval("#compare-job", (s) => s.value), jobs.b);
+    assert.equal(await page.$eval("#compare-mode", (s) => s.disabled), false);
   });
 
   test("Render reference makes the view's reference; its jobs are plotted as time against error", async () => {

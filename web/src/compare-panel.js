@@ -56,10 +56,15 @@ export class ComparePanel extends EventTarget {
     return this.modeSelect.value;
   }
 
-  /** Offers the done jobs of A's size (A itself too: a job against itself measures zero). */
+  /**
+   * Offers the done jobs of A's size (A itself too: a job against itself
+   * measures zero). Listing the same job again (the image view does once A's
+   * layers have loaded) keeps the B chosen meanwhile, or being loaded.
+   */
   async setJob(job) {
+    const same = this.job?.id === job.id;
     this.job = job;
-    this._clear();
+    if (!same) this._clear();
     const ticket = (this._ticket = (this._ticket ?? 0) + 1); // only the latest listing is shown
     const { width, height } = job.request.settings;
     const list = (await listJobs(0, 200)).jobs.filter((j) => enumName("JobState", j.state) === "DONE"
@@ -67,10 +72,18 @@ export class ComparePanel extends EventTarget {
     if (ticket !== this._ticket) return;
     const label = (j) => `${j.id.slice(0, 8)} · ${j.request.settings.samplesPerPixel} spp`
       + `${denoised(j) ? " · denoised" : ""}${j.id === job.id ? " (this job)" : ""}`;
+    const chosen = this.jobSelect.value;
     this.jobSelect.replaceChildren(new Option("–", ""), ...list.flatMap((j) => [
       new Option(label(j), j.id),
       ...(denoised(j) ? [new Option(`${label(j)} before denoising`, `${j.id}:noisy`)] : []),
     ]));
+    if (!chosen) return;
+    if ([...this.jobSelect.options].some((o) => o.value === chosen)) {
+      this.jobSelect.value = chosen;
+    } else {
+      this._clear(); // B is gone (deleted)
+      this.dispatchEvent(new Event("change"));
+    }
   }
 
   _clear() {
