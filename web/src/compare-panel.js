@@ -77,11 +77,9 @@ export class ComparePanel extends EventTarget {
       new Option(label(j), j.id),
       ...(denoised(j) ? [new Option(`${label(j)} before denoising`, `${j.id}:noisy`)] : []),
     ]));
-    if (!chosen) return;
-    if ([...this.jobSelect.options].some((o) => o.value === chosen)) {
-      this.jobSelect.value = chosen;
-    } else {
-      this._clear(); // B is gone (deleted)
+    this.jobSelect.value = chosen;
+    if (chosen && this.jobSelect.value !== chosen) { // B is gone (deleted)
+      this._clear();
       this.dispatchEvent(new Event("change"));
     }
   }
