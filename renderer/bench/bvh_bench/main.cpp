@@ -9,6 +9,7 @@
 //
 //   bvh_bench --scenes build/scenes [--only dragon_1.glb,bunny.glb] [--size 1024] [--min-seconds 0.2]
 //             [--kinds primary,shadow,random,diffuse,packets,build,memory] [--threads N]
+//   packets: camera-packets, shadow-packets and soft-shadows, which --kinds may also name one by one.
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
@@ -33,7 +34,8 @@ const char* const kScenes[] = {"cornell.obj", "cornell_sphere_light.obj", "smoot
 
 constexpr const char* kUsage =
     "usage: bvh_bench --scenes DIR [--only a.glb,b.obj] [--size N] [--min-seconds S] "
-    "[--kinds primary,shadow,random,diffuse,packets,build,memory] [--threads N]";
+    "[--kinds primary,shadow,random,diffuse,packets,build,memory] [--threads N]\n"
+    "  packets: camera-packets, shadow-packets and soft-shadows, which --kinds may also name one by one";
 
 std::string cpu_model() {
     std::ifstream cpuinfo("/proc/cpuinfo");
@@ -52,6 +54,10 @@ std::vector<std::string> split_list(const std::string& list) {
 std::set<std::string> parse_kinds(const std::string& list) {
     std::set<std::string> kinds;
     for (const std::string& kind : split_list(list)) {
+        if (kind == "packets") {
+            kinds.insert(std::begin(kPacketKinds), std::end(kPacketKinds));
+            continue;
+        }
         if (std::find(std::begin(kKinds), std::end(kKinds), kind) == std::end(kKinds))
             throw std::invalid_argument("bvh_bench: unknown kind " + kind + " in --kinds");
         kinds.insert(kind);

@@ -195,12 +195,12 @@ MemoryResult measure_memory(const Scene& scene, const Accelerator& accel, const 
 
 void trace_all_kinds(const RaySet& rays, const Peers& p, const Options& o, SceneResult& result) {
     if (o.wants("primary")) result.queries.push_back(closest("primary", rays.primary, p));
-    if (o.wants("packets"))
+    if (o.wants("camera-packets"))
         result.queries.push_back(closest_packets("primary (Embree-16)", rays.primary, rays.primary_packets, p));
     if (o.wants("shadow")) result.queries.push_back(occluded("shadow", rays.shadow, p));
-    if (o.wants("packets"))
+    if (o.wants("shadow-packets"))
         result.queries.push_back(occluded_packets("shadow (Embree-16)", rays.shadow, rays.shadow_packets, p));
-    if (o.wants("packets"))
+    if (o.wants("soft-shadows"))
         result.queries.push_back(
             occluded_packets("soft shadow (Embree-16)", rays.soft_shadow, rays.soft_shadow_packets, p));
     if (o.wants("random")) result.queries.push_back(closest("random", rays.random, p));

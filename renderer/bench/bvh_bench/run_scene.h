@@ -11,8 +11,10 @@
 
 namespace rt::bench {
 
-// What --kinds may name.
-inline const char* const kKinds[] = {"primary", "shadow", "random", "diffuse", "packets", "build", "memory"};
+// What --kinds may name; "packets" names the three packet kinds at once.
+inline const char* const kPacketKinds[] = {"camera-packets", "shadow-packets", "soft-shadows"};
+inline const char* const kKinds[] = {"primary",        "shadow",       "random", "diffuse", "camera-packets",
+                                     "shadow-packets", "soft-shadows", "build",  "memory"};
 
 struct Options {
     std::filesystem::path scenes;
@@ -24,7 +26,8 @@ struct Options {
 
     bool wants(const std::string& kind) const { return kinds.count(kind) != 0; }
     bool wants_rays() const {
-        return wants("primary") || wants("shadow") || wants("random") || wants("diffuse") || wants("packets");
+        return wants("primary") || wants("shadow") || wants("random") || wants("diffuse") ||
+               wants("camera-packets") || wants("shadow-packets") || wants("soft-shadows");
     }
     // Random rays per scene: a quarter of the primary count. They are the
     // slowest kind, and a quarter million already covers the scene's box.
