@@ -206,6 +206,56 @@ TEST(AccelPacket, CameraPacketsThroughEdgesAndVerticesDoNotLeak) {
     }
 }
 
+TEST(AccelPacket, CameraPacketsInLeavesWiderThanThemAnswerAsSingleRays) {
+    // The Cornell box's leaves hold parts of walls far apart, each far wider
+    // than a packet: a leaf's triangles whose own boxes no ray of the packet
+    // enters are skipped (packet_triangle_cull.inl), and the answers must
+    // not change for it.
+    const Scene scene = sample_scene("cornell.obj");
+    for (SimdPath path : paths()) {
+        const Accelerator accel(scene, 1, path);
+        size_t as_packets = 0;
+        const std::vector<std::vector<Ray>> packets = camera_packets(scene, 64);
+        for (const std::vector<Ray>& packet : packets)
+            as_packets += expect_same_answers(accel, packet, to_string(path));
+        EXPECT_GT(as_packets, packets.size() * 9 / 10) << to_string(path);
+    }
+}
+
+TEST(AccelPacket, PacketsThroughTheEdgesOfFlatBoxesDoNotLeak) {
+    // A flat grid seen from close above: its leaves are wide to the packets,
+    // and each triangle's box is flat. Each packet is aimed at one square's
+    // corners and at points along its edges and its diagonal, which its
+    // triangles share with their neighbours: there the rays meet the boxes
+    // at their rims, where a box test that lost a rounding error would cull
+    // the triangle they hit.
+    const Scene scene = grid(16);
+    const vec3 eye(4.3f, 4.2f, 3.0f);
+    for (SimdPath path : paths()) {
+        const Accelerator accel(scene, 1, path);
+        int leaks = 0, as_packets = 0, packets = 0;
+        // The squares ahead of the eye along x and y, so that every ray of a
+        // packet runs the same way along each axis.
+        for (uint32_t y = 5; y < 10; ++y)
+            for (uint32_t x = 5; x < 10; ++x) {
+                std::vector<Ray> packet;
+                for (float s : {0.0f, 0.25f, 0.5f, 1.0f / 3.0f, 1.0f}) {
+                    for (const vec2 point : {vec2(s, 0.0f), vec2(0.0f, s), vec2(s, 1.0f), vec2(1.0f, s)})
+                        packet.push_back({eye, vec3(float(x) + point.x, float(y) + point.y, 0.0f) - eye, kInfinity});
+                    packet.push_back({eye, vec3(float(x) + s, float(y) + s, 0.0f) - eye, kInfinity});
+                }
+                packet.resize(16);
+                std::vector<Hit> hits(packet.size());
+                expect_same_answers(accel, packet, to_string(path));
+                as_packets += accel.intersect(packet, hits);
+                ++packets;
+                for (const Hit& hit : hits) leaks += !hit.found();
+            }
+        EXPECT_EQ(leaks, 0) << to_string(path);
+        EXPECT_EQ(as_packets, packets) << to_string(path) << ": every packet is traced as one";
+    }
+}
+
 // Shadow rays from the hits of one camera packet towards one point: each
 // packet's visibility, and whether it was traced as a packet.
 struct ShadowPackets {

@@ -9,6 +9,7 @@
 // (load_packet).
 
 #include "geometry/triangle_rays_test.inl"
+#include "geometry/packet_triangle_cull.inl"
 
 // A register's group of rays (8 or 16) of which fewer than this enter a
 // leaf takes it ray by ray, four triangles a lane: a triangle against lanes
@@ -68,19 +69,26 @@ template <typename ByTriangle>
 // is at the ray's time, moved by lerp_block's arithmetic. A still tree's
 // packet from one origin (kSharedOrigin) moves each vertex to it once
 // (intersect_triangle_rays): 1T against Embree-16, camera packets on the
-// Cornell box 0.82 -> 0.84, the teapot 0.96 -> 0.98.
+// Cornell box 0.82 -> 0.84, the teapot 0.96 -> 0.98. `wide`: the leaf is
+// wide to the packet (wide_leaf), and its triangles whose boxes no ray
+// enters are skipped (packet_triangle_cull.inl); p.intervals must bound the
+// rays.
 template <bool kMoving, bool kSharedOrigin = false, typename Found>
 [[gnu::always_inline]] inline uint32_t leaf_by_triangle(const AccelData& data, const bvh::PacketRays& p,
                                                         const PacketShear& s, ShearClass axes,
                                                         uint32_t first_block, uint32_t block_count, uint32_t in,
-                                                        Found&& found) {
+                                                        Found&& found, bool wide = false) {
     if constexpr (!kMoving && !kSharedOrigin)
         if (p.shared_origin)
-            return leaf_by_triangle<false, true>(data, p, s, axes, first_block, block_count, in, found);
+            return leaf_by_triangle<false, true>(data, p, s, axes, first_block, block_count, in, found, wide);
     for (uint32_t b = first_block; b < first_block + block_count; ++b) {
         const TriangleBlock& block = data.blocks[b];
+        // Blocks of three triangles or four: two, such as a quad's, save a
+        // test at most, and a quad's two boxes are one.
+        const uint32_t entered =
+            !kMoving && wide && block.lane_used(2) ? TriangleCull(p.intervals).entered(block) : ~0u;
         for (uint32_t lane = 0; lane < bvh::kBlockWidth; ++lane) {
-            if (!block.lane_used(lane)) continue;
+            if (!block.lane_used(lane) || !(entered >> lane & 1)) continue;
             const SharedTriangle still{&block.v[0][0][lane]};
             for (uint32_t first = 0; first < p.count; first += kRayLanes) {
                 const uint32_t rays = (in >> first) & kRayLaneBits;
@@ -154,7 +162,7 @@ template <bool kMoving>
         }
     };
     traverse_packet(data.bvh, p, (1u << p.count) - 1, intervals, [&](uint32_t first_block, uint32_t block_count,
-                                                                     uint32_t in) {
+                                                                     uint32_t in, bool wide) {
         // Forced inline (GCC's attribute; the standard one does not reach a
         // lambda's operator()): left out of line, as flatten sometimes left
         // it, the leaf loop cost camera packets on the Cornell box 7%.
@@ -163,7 +171,7 @@ template <bool kMoving>
                                       [&](uint32_t first, uint32_t hit, uint32_t triangle, const RaysHits& found) {
                                           keep_nearer(p, nearest, first, hit, triangle, found);
                                           return 0u;
-                                      });
+                                      }, wide);
         };
         in &= ~leaf_classes(shear, in, kRaysPerTriangleTest, by_triangle);
         for (; in != 0; in &= in - 1) {

@@ -93,13 +93,13 @@ struct RaysHits {
 // per coordinate.
 struct SharedTriangle {
     const float* v;  // a block's v[0][0] + its lane: vertex k's `axis` coordinate at (3k + axis) rows on
-    float at(int k, int axis) const { return v[(3 * k + axis) * bvh::kBlockWidth]; }
-    RayLanes coordinate(int k, int axis) const { return lanes_splat<RayLanes>(at(k, axis)); }
+    [[gnu::always_inline]] float at(int k, int axis) const { return v[(3 * k + axis) * bvh::kBlockWidth]; }
+    [[gnu::always_inline]] RayLanes coordinate(int k, int axis) const { return lanes_splat<RayLanes>(at(k, axis)); }
     vec3 vertex(int k, uint32_t) const { return {at(k, 0), at(k, 1), at(k, 2)}; }
 };
 struct LaneTriangles {
     RayLanes c[3][3];  // [vertex][axis]
-    RayLanes coordinate(int k, int axis) const { return c[k][axis]; }
+    [[gnu::always_inline]] RayLanes coordinate(int k, int axis) const { return c[k][axis]; }
     vec3 vertex(int k, uint32_t lane) const { return {c[k][0][lane], c[k][1][lane], c[k][2][lane]}; }
 };
 
