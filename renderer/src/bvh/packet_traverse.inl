@@ -7,13 +7,16 @@
 //
 // After packet_lanes.inl and packet_setup.inl.
 
-// Bit i: some ray the intervals bound may enter child i's box before t_max;
-// t_entry[i] is then a lower bound of where any does (at least 0).
-// `rows`: a node's plane rows, its lower[3][8] then its upper[3][8].
-[[gnu::always_inline]] inline uint32_t packet_box_test(const float* rows, const bvh::PacketIntervals& iv, float t_max,
-                                                       float* t_entry) {
-    NodeLanes enter = lanes_splat<NodeLanes>(0.0f);
-    NodeLanes exit = lanes_splat<NodeLanes>(t_max);
+// The interval slab test (Boulos et al.) on boxes side by side in lanes:
+// planes(axis, near, far) gives each box's entry and exit planes along
+// `axis` as the intervals pick them (near_row, far_row). Returns the lower
+// bound of where any ray enters each box (at least 0), and in `exit` the
+// upper bound of where any leaves it before t_max.
+template <typename Lanes, typename Planes>
+[[gnu::always_inline]] inline Lanes interval_entry(const bvh::PacketIntervals& iv, float t_max, Planes&& planes,
+                                                   Lanes& exit) {
+    Lanes enter = lanes_splat<Lanes>(0.0f);
+    exit = lanes_splat<Lanes>(t_max);
     for (int axis = 0; axis < 3; ++axis) {
         // The corners of the interval product that matter: a ray's entry
         // distance is at least the nearest origin's distance to the plane
@@ -22,13 +25,29 @@
         // entry stays 0); its exit at most the farthest origin's over the
         // reciprocal of most. Rounding is monotone, so these bound every ray's
         // rounded distances too, its exit scaled as WideBoxRay's is.
-        const NodeLanes to_near = lanes_load<NodeLanes>(rows + iv.near_row[axis]) - iv.near_origin[axis];
-        const NodeLanes t_near = to_near * iv.near_inv[axis];
-        const NodeLanes to_far = lanes_load<NodeLanes>(rows + iv.far_row[axis]) - iv.far_origin[axis];
-        const NodeLanes t_far = to_far * iv.far_inv[axis];
+        Lanes near, far;
+        planes(axis, near, far);
+        const Lanes t_near = (near - iv.near_origin[axis]) * iv.near_inv[axis];
+        const Lanes t_far = (far - iv.far_origin[axis]) * iv.far_inv[axis];
         enter = t_near > enter ? t_near : enter;
         exit = t_far < exit ? t_far : exit;
     }
+    return enter;
+}
+
+// Bit i: some ray the intervals bound may enter child i's box before t_max;
+// t_entry[i] is then a lower bound of where any does (at least 0).
+// `rows`: a node's plane rows, its lower[3][8] then its upper[3][8].
+[[gnu::always_inline]] inline uint32_t packet_box_test(const float* rows, const bvh::PacketIntervals& iv, float t_max,
+                                                       float* t_entry) {
+    NodeLanes exit;
+    const NodeLanes enter = interval_entry<NodeLanes>(
+        iv, t_max,
+        [&](int axis, NodeLanes& near, NodeLanes& far) __attribute__((always_inline)) {
+            near = lanes_load<NodeLanes>(rows + iv.near_row[axis]);
+            far = lanes_load<NodeLanes>(rows + iv.far_row[axis]);
+        },
+        exit);
     __builtin_memcpy(t_entry, &enter, sizeof enter);
     return lanes_entered(enter, exit, lanes_splat<NodeLanes>(t_max));
 }
@@ -214,8 +233,9 @@ template <typename NodeTest, typename LeafTest, typename PrefetchLeaf>
             const bvh::WideBoxes* motion = bvh.motion.empty() ? nullptr : &bvh.motion[current.parent];
             const uint32_t rays = rays_entering<true>(bvh.nodes[current.parent], motion, current.slot, p, active);
             if (rays != 0) {
+                // A moving leaf's triangles are not culled (they move): no need to ask.
                 leaf_test(ref.first_block(), ref.block_count(), rays,
-                          wide_leaf(bvh.nodes[current.parent], current.slot, p));
+                          !motion && wide_leaf(bvh.nodes[current.parent], current.slot, p));
                 reach = packet_reach(p, active);
             }
         }

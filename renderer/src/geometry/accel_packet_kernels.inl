@@ -86,7 +86,7 @@ template <bool kMoving, bool kSharedOrigin = false, typename Found>
         // Blocks of three triangles or four: two, such as a quad's, save a
         // test at most, and a quad's two boxes are one.
         const uint32_t entered =
-            !kMoving && wide && block.lane_used(2) ? TriangleCull(p.intervals).entered(block) : ~0u;
+            !kMoving && wide && block.lane_used(2) ? triangles_entered(block, p.intervals) : ~0u;
         for (uint32_t lane = 0; lane < bvh::kBlockWidth; ++lane) {
             if (!block.lane_used(lane) || !(entered >> lane & 1)) continue;
             const SharedTriangle still{&block.v[0][0][lane]};

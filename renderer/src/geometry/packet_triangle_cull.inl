@@ -21,36 +21,21 @@
 
 typedef float BlockLanes __attribute__((vector_size(4 * bvh::kBlockWidth)));
 
-// A packet's intervals (PacketIntervals) in four-lane registers, for a
-// block's four triangles.
-struct TriangleCull {
-    BlockLanes near_origin[3], near_inv[3], far_origin[3], far_inv[3];
-    bool negative[3];  // the rays run towards -axis: their near planes are the upper ones
-
-    explicit TriangleCull(const bvh::PacketIntervals& iv) {
-        for (int axis = 0; axis < 3; ++axis) {
-            near_origin[axis] = lanes_splat<BlockLanes>(iv.near_origin[axis]);
-            near_inv[axis] = lanes_splat<BlockLanes>(iv.near_inv[axis]);
-            far_origin[axis] = lanes_splat<BlockLanes>(iv.far_origin[axis]);
-            far_inv[axis] = lanes_splat<BlockLanes>(iv.far_inv[axis]);
-            negative[axis] = iv.near_row[axis] >= 3 * bvh::kWideWidth;
-        }
-    }
-
-    // Bit i: some ray the intervals bound may enter triangle i's box.
-    uint32_t entered(const TriangleBlock& block) const {
-        BlockLanes enter = lanes_splat<BlockLanes>(0.0f);
-        BlockLanes exit = lanes_splat<BlockLanes>(kInfinity);
-        for (int axis = 0; axis < 3; ++axis) {
+// Bit i: some ray the intervals bound may enter triangle i's box: the node
+// test's interval slabs (interval_entry) on the block's four triangle boxes.
+[[gnu::always_inline]] inline uint32_t triangles_entered(const TriangleBlock& block, const bvh::PacketIntervals& iv) {
+    BlockLanes exit;
+    const BlockLanes enter = interval_entry<BlockLanes>(
+        iv, kInfinity,
+        [&](int axis, BlockLanes& near, BlockLanes& far) __attribute__((always_inline)) {
             const BlockLanes a = lanes_load<BlockLanes>(block.v[0][axis]),
                              b = lanes_load<BlockLanes>(block.v[1][axis]),
                              c = lanes_load<BlockLanes>(block.v[2][axis]);
-            const BlockLanes low = lanes_min(a, lanes_min(b, c)), high = lanes_max(a, lanes_max(b, c));
-            const BlockLanes t_near = ((negative[axis] ? high : low) - near_origin[axis]) * near_inv[axis];
-            const BlockLanes t_far = ((negative[axis] ? low : high) - far_origin[axis]) * far_inv[axis];
-            enter = t_near > enter ? t_near : enter;
-            exit = t_far < exit ? t_far : exit;
-        }
-        return lanes_bits(enter <= exit);
-    }
-};
+            const BlockLanes lower = lanes_min(a, lanes_min(b, c)), upper = lanes_max(a, lanes_max(b, c));
+            const bool negative = iv.near_row[axis] >= 3 * bvh::kWideWidth;  // near planes the upper ones
+            near = negative ? upper : lower;
+            far = negative ? lower : upper;
+        },
+        exit);
+    return lanes_bits(enter <= exit);
+}
