@@ -220,15 +220,28 @@ template <bool kMoving>
     return stopped;
 }
 
+// The packet's shear constants, made in `bytes` when its first leaf needs
+// them: most shadow packets from a point towards an area light leave the
+// tree having entered none (63% of the teapot's soft shadows, stopped at
+// the root), and the constants took a sixth of their setup. Out of line, as
+// it runs at most once a packet: inlined into the leaf test, or held in a
+// std::optional, it cost hard shadow packets 4-9%, the traversal's registers
+// spilled around it.
+[[gnu::noinline]] inline const PacketShear* make_shear(unsigned char* bytes, const bvh::PacketRays& p) {
+    return new (bytes) PacketShear(p);
+}
+
 // Returns the rays (a mask of those in `active`) an opaque triangle stops
 // (bvh/packet_masked_traverse.inl). A packet that leaves a one-ray
 // register's worth of rays at some node sends them on with any_triangle.
 template <bool kMoving>
 [[gnu::flatten]] inline uint32_t occluded_packet(const AccelData& data, const bvh::PacketRays& p, PacketLoad load,
                                                  uint32_t active) {
-    const PacketShear shear(p);
+    alignas(PacketShear) unsigned char shear_bytes[sizeof(PacketShear)];
+    const PacketShear* shear = nullptr;
     const auto leaf_test = [&](uint32_t first_block, uint32_t block_count, uint32_t in) {
-        return stopped_in_packet_leaf<kMoving>(data, p, shear, first_block, block_count, in);
+        if (!shear) shear = make_shear(shear_bytes, p);
+        return stopped_in_packet_leaf<kMoving>(data, p, *shear, first_block, block_count, in);
     };
     const auto single_test = [&](uint32_t r, bvh::ChildRef subtree) {
         const Ray ray{{p.origin[0][r], p.origin[1][r], p.origin[2][r]},
@@ -249,18 +262,27 @@ template <bool kMoving>
     if (load == PacketLoad::intervals) return by_intervals(p.intervals, packet_reach(p, active));
     SegmentLanes segments;
     if (!segment_lanes(segments, p)) return occlude_masked<kMoving>(data.bvh, p, active, occupied_slots, leaf_test, single_test);
+    // Rays from one point that load_packet's intervals refused differ in
+    // sign along some axis, and so do the same rays reversed.
     bvh::PacketIntervals reversed;
-    if (float reach; reverse_segments(reversed, reach, segments)) return by_intervals(reversed, reach);
-    // Rays whose directions differ in sign along some axis: the box of their
-    // segments and the intervals that allow for it (mixed_intervals), which
-    // cut soft shadows' candidates where the box alone let the whole slab
+    if (float reach; !p.shared_origin && reverse_segments(reversed, reach, segments)) return by_intervals(reversed, reach);
+    // Rays whose directions differ in sign along some axis: the intervals
+    // that allow for it (mixed_intervals), which cut soft shadows'
+    // candidates where the box of the segments alone let the whole slab
     // between the point and the light through. 1T against Embree-16: the
     // teapot's soft shadows 0.84 -> 0.90, bunny 1.25 -> 1.32, dragon_3
-    // 1.24 -> 1.33; the intervals alone were as fast on these, but looser
-    // than the box for rays from many points around a light among them.
-    const SegmentBox box = segment_box(segments);
+    // 1.24 -> 1.33. The intervals alone are as tight for rays from one
+    // point, and the box's six reductions and its test at every node only
+    // cost (soft shadows: teapot 0.99 -> 1.02, bunny 1.41 -> 1.47, dragon_3
+    // 1.40 -> 1.46); rays from many points around a light, among them, also
+    // take the box, which is the tighter bound for them.
     const MixedIntervals mixed = mixed_intervals(p, segments);
     const float reach = packet_reach(p, active);
+    if (p.shared_origin)
+        return occlude_masked<kMoving>(data.bvh, p, active, [&](const float* rows) {
+            return mixed_box_test(rows, mixed, reach);
+        }, leaf_test, single_test);
+    const SegmentBox box = segment_box(segments);
     return occlude_masked<kMoving>(data.bvh, p, active, [&](const float* rows) {
         return mixed_box_test(rows, mixed, reach) & segment_box_test(rows, box);
     }, leaf_test, single_test);
