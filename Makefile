@@ -24,6 +24,10 @@ FUZZ_SECONDS ?= 15
 BENCH_FUZZ_SECONDS ?= 300
 # Requests schemathesis makes per API operation and phase: in `make test` (15), and in `make bench`.
 BENCH_API_EXAMPLES ?= 300
+# Seconds bvh_bench times each side of each figure for, on 1 thread and on all
+# (its own default, 0.2, is for quick runs): longer windows leave this shared
+# machine's slow spells a smaller part of each.
+BENCH_BVH_SECONDS ?= 0.5
 
 .PHONY: help deps venv build build-asan build-fuzz samples web test test-cpp test-asan fuzz test-py test-web test-compose run bench chaos charts clean
 
@@ -135,7 +139,7 @@ run: build samples web
 	RT_SAMPLES_DIR=$(abspath $(SCENES)) PYTHONPATH=server $(PY) -m app
 
 bench: build samples
-	$(BUILD)/renderer/bvh_bench --scenes $(SCENES)
+	$(BUILD)/renderer/bvh_bench --scenes $(SCENES) --min-seconds $(BENCH_BVH_SECONDS)
 	$(PY) renderer/bench/report_table.py --scenes $(SCENES) --rtrender $(BUILD)/rtrender --out $(BUILD)/bench
 	$(PY) tests/bench/service_bench.py --scenes $(SCENES) --rtrender $(BUILD)/rtrender
 	$(PY) renderer/bench/alpha_cost.py --assets $(ASSETS) --rtrender $(BUILD)/rtrender

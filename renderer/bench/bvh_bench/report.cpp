@@ -50,7 +50,7 @@ void print_checks(const std::vector<SceneResult>& results) {
 void print_throughput(const std::vector<SceneResult>& results, unsigned threads) {
     std::printf("\n### Mrays/s, ours / Embree (ratio > 1: ours faster)\n\n");
     std::printf("1T: one thread, per CPU second of that thread; %uT: %u threads, per wall-clock second; "
-                "the best of %d windows per side, taken in turns. %uT CPU share: CPU time the process got in the "
+                "the best of %d windows per side, taken in turns, the side that goes first alternating (A B, B A, ...). %uT CPU share: CPU time the process got in the "
                 "%uT windows per wall second and thread; under 100%% the machine's other work took cores from both "
                 "sides alike. "
                 "Embree-1: rtcIntersect1/rtcOccluded1; Embree-16: rtcIntersect16/rtcOccluded16 on 4x4-pixel packets "
