@@ -71,8 +71,9 @@ inline double process_cpu_seconds() {
 // could spare the other side's last one, and a side then lost a whole 2T
 // figure (make bench: our 2T at our 1T speed on the teapot's shadow packets,
 // 120 against 145 Mrays/s, where every A/B run before and after scaled
-// 1.5-1.6x). In A B B A order a spell over all of one side's windows covers
-// the other's too, and shorter windows leave it fewer to spoil.
+// 1.5-1.6x). Taken A B, B A, each side leads half the pairs and neither
+// always has the other's windows on both sides of its own, so a spell weighs
+// on both sides alike; and shorter windows leave it fewer to spoil.
 inline constexpr int kTimingWindows = 6;
 
 struct PairTiming {

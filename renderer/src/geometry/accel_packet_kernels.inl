@@ -271,11 +271,12 @@ template <bool kMoving>
     // candidates where the box of the segments alone let the whole slab
     // between the point and the light through. 1T against Embree-16: the
     // teapot's soft shadows 0.84 -> 0.90, bunny 1.25 -> 1.32, dragon_3
-    // 1.24 -> 1.33. The intervals alone are as tight for rays from one
-    // point, and the box's six reductions and its test at every node only
-    // cost (soft shadows: teapot 0.99 -> 1.02, bunny 1.41 -> 1.47, dragon_3
-    // 1.40 -> 1.46); rays from many points around a light, among them, also
-    // take the box, which is the tighter bound for them.
+    // 1.24 -> 1.33. For rays from one point the box cuts little the
+    // intervals leave, and its six reductions and its test at every node
+    // cost more than it saves (without it, soft shadows: teapot 0.99 ->
+    // 1.02, bunny 1.41 -> 1.47, dragon_3 1.40 -> 1.46); rays from many
+    // points around a light, among them, also take the box, which is the
+    // tighter bound for them.
     const MixedIntervals mixed = mixed_intervals(p, segments);
     const float reach = packet_reach(p, active);
     if (p.shared_origin)
