@@ -2,7 +2,9 @@
 // checked and both sides timed.
 #pragma once
 
+#include <algorithm>
 #include <filesystem>
+#include <iterator>
 #include <set>
 #include <string>
 #include <vector>
@@ -27,7 +29,7 @@ struct Options {
     bool wants(const std::string& kind) const { return kinds.count(kind) != 0; }
     bool wants_rays() const {
         return wants("primary") || wants("shadow") || wants("random") || wants("diffuse") ||
-               wants("camera-packets") || wants("shadow-packets") || wants("soft-shadows");
+               std::any_of(std::begin(kPacketKinds), std::end(kPacketKinds), [&](const char* k) { return wants(k); });
     }
     // Random rays per scene: a quarter of the primary count. They are the
     // slowest kind, and a quarter million already covers the scene's box.
