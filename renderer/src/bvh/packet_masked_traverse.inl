@@ -215,8 +215,11 @@ inline constexpr uint32_t kSingleRays = 3;
 // primitives against `rays`, those that enter its box, and returns the ones
 // it stopped, which leave the packet. single_test(ray, subtree) runs one ray's
 // own any-hit query from a node on, and says whether it was stopped.
+// kOneWay: the rays run one way along each axis, as p.intervals says (a
+// packet load_packet bound), so each ray's own test of a child takes two
+// products an axis instead of four (rays_entering).
 // Returns the rays stopped.
-template <bool kMoving, typename Cull, typename LeafTest, typename SingleTest>
+template <bool kMoving, bool kOneWay = false, typename Cull, typename LeafTest, typename SingleTest>
 [[gnu::always_inline]] inline uint32_t occlude_masked(const bvh::WideBvh& bvh, const bvh::PacketRays& p,
                                                       uint32_t active, Cull&& cull, LeafTest&& leaf_test,
                                                       SingleTest&& single_test) {
@@ -252,7 +255,7 @@ template <bool kMoving, typename Cull, typename LeafTest, typename SingleTest>
             for (uint32_t rest = candidates; rest != 0;) {
                 const uint32_t slot = 31u - uint32_t(__builtin_clz(rest));
                 rest &= ~(1u << slot);
-                const uint32_t entering = rays_entering(node, motion, slot, p, rays);
+                const uint32_t entering = rays_entering<kOneWay>(node, motion, slot, p, rays);
                 if (entering == 0) continue;
                 if (next_rays != 0) {
                     prefetch_child(bvh, bvh::ChildRef{next}, no_prefetch);

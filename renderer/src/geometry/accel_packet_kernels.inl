@@ -114,6 +114,20 @@ template <bool kMoving, bool kSharedOrigin = false, typename Found>
     return in;
 }
 
+// The packet's shear constants, made in `bytes` when its first leaf needs
+// them: most shadow packets from a point towards an area light leave the
+// tree having entered none (63% of the teapot's soft shadows, stopped at
+// the root), and the constants took a sixth of their setup. Out of line, as
+// it runs at most once a packet: inlined into the leaf test, or held in a
+// std::optional, it cost hard shadow packets 4-9%, the traversal's registers
+// spilled around it. Closest-hit packets make theirs the same way (2% of
+// camera packets enter no leaf); with that and the one-way ray tests of
+// occluded_packet, 1T against Embree-16: smooth_sphere's camera packets
+// 1.00 -> 1.04, the other packet figures alike.
+[[gnu::noinline]] inline const PacketShear* make_shear(unsigned char* bytes, const bvh::PacketRays& p) {
+    return new (bytes) PacketShear(p);
+}
+
 // The triangles a closest-hit packet query has found, structure of arrays
 // (the distances are the packet's t_max): updated a register of rays at a
 // time, as the packet's t_max and t_cull are read, since single-lane stores
@@ -149,7 +163,8 @@ struct PacketNearest {
 // its own time.
 template <bool kMoving>
 [[gnu::flatten]] inline void closest_packet(const AccelData& data, bvh::PacketRays& p, Hit* hits, bool clear_misses) {
-    const PacketShear shear(p);
+    alignas(PacketShear) unsigned char shear_bytes[sizeof(PacketShear)];
+    const PacketShear* shear = nullptr;
     SilentObserver none;
     PacketNearest nearest;  // the triangles', as closest_triangle keeps its own
     const auto intervals = [&](const bvh::WideNode& node, uint32_t index, float reach, float* t_entry) {
@@ -166,18 +181,19 @@ template <bool kMoving>
         // Forced inline (GCC's attribute; the standard one does not reach a
         // lambda's operator()): left out of line, as flatten sometimes left
         // it, the leaf loop cost camera packets on the Cornell box 7%.
+        if (!shear) shear = make_shear(shear_bytes, p);
         const auto by_triangle = [&](const ShearClass& axes, uint32_t rays) __attribute__((always_inline)) {
-            leaf_by_triangle<kMoving>(data, p, shear, axes, first_block, block_count, rays,
+            leaf_by_triangle<kMoving>(data, p, *shear, axes, first_block, block_count, rays,
                                       [&](uint32_t first, uint32_t hit, uint32_t triangle, const RaysHits& found) {
                                           keep_nearer(p, nearest, first, hit, triangle, found);
                                           return 0u;
                                       }, wide);
         };
-        in &= ~leaf_classes(shear, in, kRaysPerTriangleTest, by_triangle);
+        in &= ~leaf_classes(*shear, in, kRaysPerTriangleTest, by_triangle);
         for (; in != 0; in &= in - 1) {
             const uint32_t r = uint32_t(__builtin_ctz(in));
             Hit ray_nearest{p.t_max[r], nearest.primitive[r], nearest.u[r], nearest.v[r]};
-            if (closest_in_leaf<kMoving, false>(data, WatertightRay4(shear.ray(r)), first_block, block_count, p.time[r],
+            if (closest_in_leaf<kMoving, false>(data, WatertightRay4(shear->ray(r)), first_block, block_count, p.time[r],
                                               p.t_max[r], ray_nearest, none)) {
                 p.t_cull[r] = bvh::tie_reach(p.t_max[r]);
                 nearest.primitive[r] = ray_nearest.primitive;
@@ -220,17 +236,6 @@ template <bool kMoving>
     return stopped;
 }
 
-// The packet's shear constants, made in `bytes` when its first leaf needs
-// them: most shadow packets from a point towards an area light leave the
-// tree having entered none (63% of the teapot's soft shadows, stopped at
-// the root), and the constants took a sixth of their setup. Out of line, as
-// it runs at most once a packet: inlined into the leaf test, or held in a
-// std::optional, it cost hard shadow packets 4-9%, the traversal's registers
-// spilled around it.
-[[gnu::noinline]] inline const PacketShear* make_shear(unsigned char* bytes, const bvh::PacketRays& p) {
-    return new (bytes) PacketShear(p);
-}
-
 // Returns the rays (a mask of those in `active`) an opaque triangle stops
 // (bvh/packet_masked_traverse.inl). A packet that leaves a one-ray
 // register's worth of rays at some node sends them on with any_triangle.
@@ -252,20 +257,22 @@ template <bool kMoving>
     // Nodes culled by the tightest bound the rays allow: the intervals
     // around them, or around them run backwards from where they end, or the
     // box around their segments with intervals of mixed signs, or else only
-    // the empty slots.
-    const auto by_intervals = [&](const bvh::PacketIntervals& iv, float reach) {
-        return occlude_masked<kMoving>(data.bvh, p, active, [&](const float* rows) {
+    // the empty slots. Rays the intervals bound run one way along each axis,
+    // and their own tests take one product a plane (rays_entering's kOneWay).
+    const auto by_intervals = [&](auto one_way, const bvh::PacketIntervals& iv, float reach) {
+        return occlude_masked<kMoving, decltype(one_way)::value>(data.bvh, p, active, [&](const float* rows) {
             alignas(32) float t_entry[bvh::kWideWidth];
             return packet_box_test(rows, iv, reach, t_entry);
         }, leaf_test, single_test);
     };
-    if (load == PacketLoad::intervals) return by_intervals(p.intervals, packet_reach(p, active));
+    if (load == PacketLoad::intervals) return by_intervals(std::true_type{}, p.intervals, packet_reach(p, active));
     SegmentLanes segments;
     if (!segment_lanes(segments, p)) return occlude_masked<kMoving>(data.bvh, p, active, occupied_slots, leaf_test, single_test);
     // Rays from one point that load_packet's intervals refused differ in
     // sign along some axis, and so do the same rays reversed.
     bvh::PacketIntervals reversed;
-    if (float reach; !p.shared_origin && reverse_segments(reversed, reach, segments)) return by_intervals(reversed, reach);
+    if (float reach; !p.shared_origin && reverse_segments(reversed, reach, segments))
+        return by_intervals(std::false_type{}, reversed, reach);
     // Rays whose directions differ in sign along some axis: the intervals
     // that allow for it (mixed_intervals), which cut soft shadows'
     // candidates where the box of the segments alone let the whole slab
