@@ -225,7 +225,7 @@ bool EmbreeScene::occluded(const Ray& ray) const {
     return query.tfar < 0.0f;  // Embree marks an occluded ray with tfar = -inf
 }
 
-void EmbreeScene::intersect16(const Ray* rays, const Packet& packet, Hit* hits) const {
+void EmbreeScene::intersect16(const Ray* rays, const Packet& packet, Hit* lane_hits) const {
     alignas(64) int valid[kPacketWidth];
     RTCRayHit16 query;
     for (unsigned lane = 0; lane < kPacketWidth; ++lane) {
@@ -239,11 +239,11 @@ void EmbreeScene::intersect16(const Ray* rays, const Packet& packet, Hit* hits) 
     rtcIntersect16(valid, scene_, &context, &query);
     for (unsigned lane = 0; lane < kPacketWidth; ++lane)
         if (valid[lane])
-            hits[packet[lane]] = to_hit(query.ray.tfar[lane], query.hit.geomID[lane], query.hit.primID[lane],
-                                        query.hit.u[lane], query.hit.v[lane]);
+            lane_hits[lane] = to_hit(query.ray.tfar[lane], query.hit.geomID[lane], query.hit.primID[lane],
+                                     query.hit.u[lane], query.hit.v[lane]);
 }
 
-void EmbreeScene::occluded16(const Ray* rays, const Packet& packet, char* blocked) const {
+void EmbreeScene::occluded16(const Ray* rays, const Packet& packet, char* lane_blocked) const {
     alignas(64) int valid[kPacketWidth];
     RTCRay16 query;
     for (unsigned lane = 0; lane < kPacketWidth; ++lane) {
@@ -254,7 +254,7 @@ void EmbreeScene::occluded16(const Ray* rays, const Packet& packet, char* blocke
     RTCIntersectContext context = coherent_context();
     rtcOccluded16(valid, scene_, &context, &query);
     for (unsigned lane = 0; lane < kPacketWidth; ++lane)
-        if (valid[lane]) blocked[packet[lane]] = query.tfar[lane] < 0.0f;
+        if (valid[lane]) lane_blocked[lane] = query.tfar[lane] < 0.0f;
 }
 
 }  // namespace rt::bench

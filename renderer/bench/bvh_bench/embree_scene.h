@@ -75,10 +75,10 @@ class EmbreeScene {
     Hit intersect(const Ray& ray) const;
     bool occluded(const Ray& ray) const;
 
-    // The packet's rays (indices into `rays`), answers written at the same
-    // indices; inactive lanes are masked off.
-    void intersect16(const Ray* rays, const Packet& packet, Hit* hits) const;
-    void occluded16(const Ray* rays, const Packet& packet, char* blocked) const;
+    // The packet's rays (indices into `rays`), answers written to the
+    // packet's lanes; inactive lanes are masked off and left.
+    void intersect16(const Ray* rays, const Packet& packet, Hit* lane_hits) const;
+    void occluded16(const Ray* rays, const Packet& packet, char* lane_blocked) const;
 
   private:
     void attach(RTCGeometry geometry, unsigned id);

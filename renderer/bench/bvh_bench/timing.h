@@ -10,6 +10,8 @@
 #include <thread>
 #include <vector>
 
+#include "thread_team.h"
+
 namespace rt::bench {
 
 using Clock = std::chrono::steady_clock;
@@ -26,20 +28,16 @@ inline double thread_cpu_seconds() {
     return double(now.tv_sec) + 1e-9 * double(now.tv_nsec);
 }
 
-// Calls f(i) for i in [0, count) on `threads` threads (the caller is one of
-// them), in chunks handed out in order, so neighbouring rays stay on one thread
-// as a renderer's tiles do.
+// Calls f(i) for i in [0, count) on `threads` threads of the team (the
+// caller is one of them), in chunks handed out in order, so neighbouring rays
+// stay on one thread as a renderer's tiles do.
 template <typename F>
 void parallel_for(size_t count, unsigned threads, F&& f, size_t chunk = 1024) {
     std::atomic<size_t> next{0};
-    auto work = [&] {
+    ThreadTeam::shared().run(threads, [&] {
         for (size_t begin; (begin = next.fetch_add(chunk)) < count;)
             for (size_t i = begin; i < std::min(count, begin + chunk); ++i) f(i);
-    };
-    std::vector<std::thread> helpers;
-    for (unsigned t = 1; t < threads; ++t) helpers.emplace_back(work);
-    work();
-    for (std::thread& helper : helpers) helper.join();
+    });
 }
 
 // Rays per second of `pass`, which traces `rays` rays, repeated for at least
