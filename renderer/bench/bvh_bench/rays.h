@@ -23,6 +23,16 @@ inline constexpr uint32_t kInactiveLane = 0xffffffffu;
 // kInactiveLane: lane y * 4 + x is pixel (x, y) of the 4 x 4 block.
 using Packet = std::array<uint32_t, kPacketWidth>;
 
+// Whether every lane is active and its ray follows the one before: rays one
+// after another, as a renderer makes a tile's rays. Both peers take such a
+// packet's rays as they lie (ours_tile.h, embree_scene.cpp).
+inline bool consecutive(const Packet& packet) {
+    if (packet[0] == kInactiveLane) return false;
+    for (uint32_t lane = 1; lane < kPacketWidth; ++lane)
+        if (packet[lane] != packet[0] + lane) return false;
+    return true;
+}
+
 struct RaySet {
     // One ray per pixel of a size x size image, block after block of 4 x 4
     // pixels (each block row by row), so primary_packets[b] is rays 16b..16b+15
