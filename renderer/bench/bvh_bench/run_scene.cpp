@@ -127,9 +127,10 @@ constexpr size_t kPacketChunk = 64;
 // theirs, and not in arrays over every ray: with 16 MB of hits to write
 // through per pass, the 2T figures on the small scenes measured the two
 // threads' share of memory more than their queries (camera packets against
-// Embree-16, 1T / 2T: the teapot 1.04 / 0.99 with the arrays, 1.04 / 1.07
-// with tile buffers; smooth_sphere 1.04 / 0.99 and 1.06 / 1.06; the Cornell
-// box 1.06 / 0.97 and 1.06 / 1.04).
+// Embree-16, 1T / 2T: the teapot 1.04 / 0.99 with the arrays and a thread
+// started per pass, 1.04 / 1.07 with tile buffers and the ThreadTeam;
+// smooth_sphere 1.04 / 0.99 and 1.06 / 1.06; the Cornell box 1.06 / 0.97
+// and 1.06 / 1.04).
 template <class Out, class OursTile, class EmbreeTile, class CheckBoth>
 QueryResult packet_query(const std::string& name, const std::vector<Packet>& packets, size_t rays, const Peers& p,
                          OursTile ours_tile, EmbreeTile embree_tile, CheckBoth check_both) {

@@ -7,7 +7,6 @@
 #include <atomic>
 #include <chrono>
 #include <ctime>
-#include <thread>
 #include <vector>
 
 #include "thread_team.h"
