@@ -60,13 +60,13 @@ template <typename PrefetchLeaf>
         stack[stack_size++] = {node.child[far].bits, t_entry[far]};
         return node.child[near];
     }
-    // Three or four children: a sorting network of branch-free compare and
-    // swaps, as Embree sorts a few children; more: insertion. Incoherent rays
-    // make the insertion's branches unpredictable. 1T against rtcIntersect1,
-    // 4 rounds: diffuse rays on dragon_3 1.00 -> 1.03, dragon_4 1.02 -> 1.04,
-    // dragon_2 1.04 -> 1.06, dragon_1 1.02 -> 1.05; camera rays, whose
-    // branches it predicted well, lost as much (dragon_3 1.27 -> 1.23,
-    // dragon_4 1.33 -> 1.27), where they keep a margin of 20% and more.
+    // Three children: three branch-free compare and swaps, as Embree sorts a
+    // few children; more: insertion. Incoherent rays make the insertion's
+    // branches unpredictable. 1T against rtcIntersect1, 4 rounds: diffuse
+    // rays on dragon_3 1.01 -> 1.04, dragon_2 1.03 -> 1.06, dragon_1 1.05 ->
+    // 1.06, dragon_4 1.02 -> 1.02; camera rays alike (dragon_3 1.27 -> 1.27).
+    // The network for four children as well lost camera rays 3-5% (dragon_4
+    // 1.33 -> 1.27), whose branches the insertion predicted well.
     uint64_t keys[bvh::kWideWidth];
     uint32_t count = 0;
     const auto order = [&](uint32_t i, uint32_t j) {  // keys[i] >= keys[j] after
@@ -74,13 +74,9 @@ template <typename PrefetchLeaf>
         keys[i] = a > b ? a : b;
         keys[j] = a > b ? b : a;
     };
-    if (const uint32_t n = uint32_t(__builtin_popcount(hits)); n <= 4) {
+    if (__builtin_popcount(hits) == 3) {
         for (; hits != 0; hits &= hits - 1) keys[count++] = key_of(uint32_t(__builtin_ctz(hits)));
-        if (n == 3) {
-            order(0, 1), order(1, 2), order(0, 1);
-        } else {
-            order(0, 1), order(2, 3), order(0, 2), order(1, 3), order(1, 2);
-        }
+        order(0, 1), order(1, 2), order(0, 1);
     } else {
         for (; hits != 0; hits &= hits - 1) {
             const uint64_t key = key_of(uint32_t(__builtin_ctz(hits)));
