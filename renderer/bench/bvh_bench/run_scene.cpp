@@ -128,7 +128,7 @@ constexpr size_t kPacketChunk = 64;
 // through per pass, the 2T figures on the small scenes measured the two
 // threads' share of memory more than their queries (camera packets against
 // Embree-16, 1T / 2T: the teapot 1.04 / 0.99 with the arrays and a thread
-// started per pass, 1.04 / 1.07 with tile buffers and the ThreadTeam;
+// started per pass, 1.04 / 1.07 with tile buffers and kept threads;
 // smooth_sphere 1.04 / 0.99 and 1.06 / 1.06; the Cornell box 1.06 / 0.97
 // and 1.06 / 1.04).
 template <class Out, class OursTile, class EmbreeTile, class CheckBoth>
