@@ -168,6 +168,28 @@ template <typename Lanes>
     return a > b ? a : b;
 }
 
+// A box's entry and exit distances from its three slabs' (wide_box_test.h
+// says why as integers): the entry max(near..., +0), where a negative or NaN
+// distance gives way to +0; the exit min(far..., limit), each far distance
+// first held to `limit` by a float minimum, which a NaN gives way to.
+template <typename Lanes>
+[[gnu::always_inline]] inline Lanes slab_entry(const Lanes (&t_near)[3]) {
+    using Ints = typename IntsOfSize<sizeof(Lanes)>::type;
+    const Ints x = lanes_bitcast<Ints>(t_near[0]), y = lanes_bitcast<Ints>(t_near[1]),
+               z = lanes_bitcast<Ints>(t_near[2]);
+    const Ints xy = x > y ? x : y, z0 = z > 0 ? z : Ints{};
+    return lanes_bitcast<Lanes>(xy > z0 ? xy : z0);
+}
+template <typename Lanes>
+[[gnu::always_inline]] inline Lanes slab_exit(const Lanes (&t_far)[3], Lanes limit) {
+    using Ints = typename IntsOfSize<sizeof(Lanes)>::type;
+    const Ints x = lanes_bitcast<Ints>(t_far[0] < limit ? t_far[0] : limit),
+               y = lanes_bitcast<Ints>(t_far[1] < limit ? t_far[1] : limit),
+               z = lanes_bitcast<Ints>(t_far[2] < limit ? t_far[2] : limit);
+    const Ints xy = x < y ? x : y;
+    return lanes_bitcast<Lanes>(xy < z ? xy : z);
+}
+
 // |x|, lane by lane: the sign bit cleared.
 template <typename Lanes>
 [[gnu::always_inline]] inline Lanes lanes_abs(Lanes x) {

@@ -15,8 +15,7 @@
 template <typename Lanes, typename Planes>
 [[gnu::always_inline]] inline Lanes interval_entry(const bvh::PacketIntervals& iv, float t_max, Planes&& planes,
                                                    Lanes& exit) {
-    Lanes enter = lanes_splat<Lanes>(0.0f);
-    exit = lanes_splat<Lanes>(t_max);
+    Lanes t_near[3], t_far[3];
     for (int axis = 0; axis < 3; ++axis) {
         // The corners of the interval product that matter: a ray's entry
         // distance is at least the nearest origin's distance to the plane
@@ -27,11 +26,11 @@ template <typename Lanes, typename Planes>
         // rounded distances too, its exit scaled as WideBoxRay's is.
         Lanes near, far;
         planes(axis, near, far);
-        const Lanes t_near = (near - iv.near_origin[axis]) * iv.near_inv[axis];
-        const Lanes t_far = (far - iv.far_origin[axis]) * iv.far_inv[axis];
-        enter = t_near > enter ? t_near : enter;
-        exit = t_far < exit ? t_far : exit;
+        t_near[axis] = (near - iv.near_origin[axis]) * iv.near_inv[axis];
+        t_far[axis] = (far - iv.far_origin[axis]) * iv.far_inv[axis];
     }
+    exit = slab_exit(t_far, lanes_splat<Lanes>(t_max));
+    const Lanes enter = slab_entry(t_near);
     return enter;
 }
 
@@ -86,9 +85,8 @@ template <bool kOneWay = false>
     uint32_t entering = 0;
     for (uint32_t first = 0; first < p.count; first += kRayLanes) {
         if (((rays >> first) & kRayLaneBits) == 0) continue;
-        RayLanes enter = lanes_splat<RayLanes>(0.0f);
-        RayLanes t_max = lanes_load<RayLanes>(p.t_cull + first);
-        RayLanes exit = t_max;
+        const RayLanes t_max = lanes_load<RayLanes>(p.t_cull + first);
+        RayLanes t_near[3], t_far[3];
         for (int axis = 0; axis < 3; ++axis) {
             const RayLanes origin = lanes_load<RayLanes>(p.origin[axis] + first);
             const RayLanes inv = lanes_load<RayLanes>(p.inv_direction[axis] + first);
@@ -99,10 +97,8 @@ template <bool kOneWay = false>
                     if (!motion) return lanes_splat<RayLanes>(at_open);
                     return at_open + lanes_load<RayLanes>(p.time + first) * (&motion->lower[0][0])[row + slot];
                 };
-                const RayLanes t_near = (plane(p.intervals.near_row[axis]) - origin) * inv;
-                const RayLanes t_far = (plane(p.intervals.far_row[axis]) - origin) * (inv * bvh::kExitScale);
-                enter = t_near > enter ? t_near : enter;
-                exit = t_far < exit ? t_far : exit;
+                t_near[axis] = (plane(p.intervals.near_row[axis]) - origin) * inv;
+                t_far[axis] = (plane(p.intervals.far_row[axis]) - origin) * (inv * bvh::kExitScale);
                 continue;
             }
             RayLanes lower = lanes_splat<RayLanes>(node.lower[axis][slot]);
@@ -116,11 +112,10 @@ template <bool kOneWay = false>
             // scaling keeps the order of the two, so the larger is the exit.
             const RayLanes inv_exit = inv * bvh::kExitScale;
             const RayLanes to_lower = lower - origin, to_upper = upper - origin;
-            const RayLanes t_near = lanes_min(to_lower * inv, to_upper * inv);
-            const RayLanes t_far = lanes_max(to_lower * inv_exit, to_upper * inv_exit);
-            enter = t_near > enter ? t_near : enter;
-            exit = t_far < exit ? t_far : exit;
+            t_near[axis] = lanes_min(to_lower * inv, to_upper * inv);
+            t_far[axis] = lanes_max(to_lower * inv_exit, to_upper * inv_exit);
         }
+        const RayLanes enter = slab_entry(t_near), exit = slab_exit(t_far, t_max);
         entering |= lanes_entered(enter, exit, t_max) << first;
     }
     return entering & rays;

@@ -12,26 +12,70 @@ template <bool kMoving>
     }
 }
 
+// The entry distances of a node's eight children, kept in a register.
+struct EntryDistances {
+    __m256 t;
+};
+
 template <bool kMoving>
 [[gnu::always_inline]] inline uint32_t wide_box_test(const bvh::WideNode& node, const bvh::WideBoxRay& ray, float t_max,
-                                                     float* t_entry, const bvh::WideBoxes* motion, float time) {
+                                                     EntryDistances& t_entry, const bvh::WideBoxes* motion, float time) {
     const float* rows = node.lower[0];
     const float* motion_rows = kMoving ? motion->lower[0] : nullptr;
     const __m256 time8 = _mm256_set1_ps(time);
-    __m256 enter = _mm256_setzero_ps();
-    __m256 exit = _mm256_set1_ps(t_max);
+    const __m256 t_max8 = _mm256_set1_ps(t_max);
+    __m256i t_near[3], t_far[3];
     for (int axis = 0; axis < 3; ++axis) {
         const __m256 origin = _mm256_set1_ps(ray.origin[axis]);
-        const __m256 inv = _mm256_set1_ps(ray.inv_direction[axis]);
         const __m256 near_plane = plane_row<kMoving>(rows, motion_rows, ray.near_row[axis], time8);
         const __m256 far_plane = plane_row<kMoving>(rows, motion_rows, ray.far_row[axis], time8);
-        const __m256 t_near = _mm256_mul_ps(_mm256_sub_ps(near_plane, origin), inv);
-        const __m256 t_far = _mm256_mul_ps(_mm256_sub_ps(far_plane, origin), _mm256_set1_ps(ray.inv_exit[axis]));
-        enter = _mm256_max_ps(t_near, enter);
-        exit = _mm256_min_ps(t_far, exit);
+        t_near[axis] =
+            _mm256_castps_si256(_mm256_mul_ps(_mm256_sub_ps(near_plane, origin), _mm256_set1_ps(ray.inv_direction[axis])));
+        t_far[axis] = _mm256_castps_si256(_mm256_min_ps(
+            _mm256_mul_ps(_mm256_sub_ps(far_plane, origin), _mm256_set1_ps(ray.inv_exit[axis])), t_max8));
     }
-    const __m256 hit = _mm256_and_ps(_mm256_cmp_ps(enter, exit, _CMP_LE_OQ),
-                                     _mm256_cmp_ps(enter, _mm256_set1_ps(t_max), _CMP_LT_OQ));
-    _mm256_storeu_ps(t_entry, enter);
-    return uint32_t(_mm256_movemask_ps(hit));
+    // wide_box_test.h says why integers.
+    const __m256i enter = _mm256_max_epi32(_mm256_max_epi32(t_near[0], t_near[1]),
+                                           _mm256_max_epi32(t_near[2], _mm256_setzero_si256()));
+    const __m256i exit = _mm256_min_epi32(_mm256_min_epi32(t_far[0], t_far[1]), t_far[2]);
+    const __m256i miss = _mm256_or_si256(
+        _mm256_cmpgt_epi32(enter, exit),
+        _mm256_cmpgt_epi32(enter, _mm256_sub_epi32(_mm256_castps_si256(t_max8), _mm256_set1_epi32(1))));
+    t_entry.t = _mm256_castsi256_ps(enter);
+    return ~uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(miss))) & 0xffu;
 }
+
+// The keys (bvh::entry_key) of the children a ray enters, in slot order,
+// formed in the register the box test left: reading the distances back from
+// memory would wait on forwarding a 32-byte store to 4-byte loads. With
+// AVX-512 they are packed to the front (vpcompressd, as Embree's
+// traverseClosestHitAVX512VL8 packs them) and taken from lane 0.
+class HitKeys {
+  public:
+    HitKeys(const EntryDistances& t_entry, uint32_t hits) {
+        const __m256i slots = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+        keys_ = _mm256_or_si256(_mm256_and_si256(_mm256_castps_si256(t_entry.t), _mm256_set1_epi32(~7)), slots);
+#if defined(__AVX512VL__)
+        keys_ = _mm256_maskz_compress_epi32(__mmask8(hits), keys_);
+#else
+        hits_ = hits;
+#endif
+    }
+    [[gnu::always_inline]] uint32_t next() {
+#if defined(__AVX512VL__)
+        const uint32_t key = uint32_t(_mm256_cvtsi256_si32(keys_));
+        keys_ = _mm256_alignr_epi32(keys_, keys_, 1);
+        return key;
+#else
+        const uint32_t slot = uint32_t(__builtin_ctz(hits_));
+        hits_ &= hits_ - 1;
+        return uint32_t(_mm256_cvtsi256_si32(_mm256_permutevar8x32_epi32(keys_, _mm256_set1_epi32(int(slot)))));
+#endif
+    }
+
+  private:
+    __m256i keys_;
+#if !defined(__AVX512VL__)
+    uint32_t hits_;
+#endif
+};

@@ -1,15 +1,16 @@
 // Front-to-back traversal of the eight-wide BVH for closest-hit and any-hit
 // queries, compiled once per SIMD path: the including file defines
 // `wide_box_test<kMoving>(node, box_ray, t_max, t_entry, close, time)` for its
-// instruction set and
-// includes this inside its ISA namespace (as Embree compiles its kernels once
+// instruction set, the EntryDistances it fills and the HitKeys that read
+// them, and includes this inside its ISA namespace (as Embree compiles its kernels once
 // per ISA, in namespace embree::isa). What the leaves hold is the caller's
 // business: it passes the leaf test.
 //
 // A closest-hit query takes the children a ray enters nearest first; the
 // others wait on a stack with their entry distance, and are dropped when
-// popped if a hit nearer than that has been found meanwhile. Ties go to the
-// lower slot, so every path visits the same nodes in the same order.
+// popped if a hit nearer than that has been found meanwhile. Distances equal
+// but for their three lowest bits go to the lower slot (push_sorted), so
+// every path visits the same nodes in the same order.
 
 // Sees what a traversal tests. The plain queries' observer does nothing and
 // compiles away.
@@ -40,57 +41,53 @@ template <typename PrefetchLeaf>
     }
 }
 
-// Pushes the children in `hits` (two or more) farthest first, and returns the nearest.
-[[gnu::always_inline]] inline bvh::ChildRef push_sorted(const bvh::WideNode& node, uint32_t hits,
-                                                        const float* t_entry, WidePending* stack,
-                                                        uint32_t& stack_size) {
-    // Entry distances are >= +0, so their bit patterns sort as the distances do;
-    // the slot in the low bits breaks ties.
-    const auto key_of = [&](uint32_t slot) {
-        uint32_t bits;
-        __builtin_memcpy(&bits, &t_entry[slot], sizeof bits);
-        return uint64_t(bits) << 32 | slot;
+// Pushes the children whose keys `keys` yields (count of them, two or more)
+// farthest first, and returns the nearest. A key is the entry distance's bit
+// pattern with its slot in the low three bits (bvh::entry_key), as Embree's
+// AVX-512 traversal orders children: distances >= +0 sort as their bits do,
+// the slot breaks ties, and the key alone says which child it is and, to
+// within three bits that only round it down, where the ray enters it.
+// Up to four children are ordered by branch-free compare and swaps, more by
+// insertion. Against the 64-bit keys (distance, slot) read back from memory
+// and the network for three only, 1T against rtcIntersect1 on the Xeon, 3
+// rounds: camera rays on dragon_4 1.00 -> 1.03, dragon_3 0.99 -> 1.01;
+// diffuse rays 0.85 -> 0.86 and 0.85 -> 0.87.
+template <typename HitKeys>
+[[gnu::always_inline]] inline bvh::ChildRef push_sorted(const bvh::WideNode& node, uint32_t count, HitKeys& keys,
+                                                        WidePending* stack, uint32_t& stack_size) {
+    const auto push = [&](uint32_t key) { stack[stack_size++] = {node.child[key & 7u].bits, bvh::entry_distance(key)}; };
+    const auto order = [](uint32_t& near, uint32_t& far) {  // near <= far after
+        const uint32_t a = near, b = far;
+        near = a < b ? a : b;
+        far = a < b ? b : a;
     };
-    // Two children: one comparison, as Embree's BVH8 traversal orders a
-    // pair, instead of the sorting loop (diffuse rays 4-10% faster).
-    if (const uint32_t rest = hits & (hits - 1); (rest & (rest - 1)) == 0) {
-        const uint32_t a = uint32_t(__builtin_ctz(hits)), b = uint32_t(__builtin_ctz(rest));
-        const bool a_nearer = key_of(a) < key_of(b);
-        const uint32_t near = a_nearer ? a : b, far = a_nearer ? b : a;
-        stack[stack_size++] = {node.child[far].bits, t_entry[far]};
-        return node.child[near];
+    uint32_t a = keys.next(), b = keys.next();
+    order(a, b);
+    if (count == 2) {
+        push(b);
+        return node.child[a & 7u];
     }
-    // Three children: three branch-free compare and swaps, as Embree sorts a
-    // few children; more: insertion. Incoherent rays make the insertion's
-    // branches unpredictable. 1T against rtcIntersect1, 4 rounds: diffuse
-    // rays on dragon_3 1.01 -> 1.04, dragon_2 1.03 -> 1.06, dragon_1 1.05 ->
-    // 1.06, dragon_4 1.02 -> 1.02; camera rays alike (dragon_3 1.27 -> 1.27).
-    // The network for four children as well lost camera rays 3-5% (dragon_4
-    // 1.33 -> 1.27), whose branches the insertion predicted well.
-    uint64_t keys[bvh::kWideWidth];
-    uint32_t count = 0;
-    const auto order = [&](uint32_t i, uint32_t j) {  // keys[i] >= keys[j] after
-        const uint64_t a = keys[i], b = keys[j];
-        keys[i] = a > b ? a : b;
-        keys[j] = a > b ? b : a;
-    };
-    if (__builtin_popcount(hits) == 3) {
-        for (; hits != 0; hits &= hits - 1) keys[count++] = key_of(uint32_t(__builtin_ctz(hits)));
-        order(0, 1), order(1, 2), order(0, 1);
-    } else {
-        for (; hits != 0; hits &= hits - 1) {
-            const uint64_t key = key_of(uint32_t(__builtin_ctz(hits)));
-            // Insertion into descending order: the nearest ends up last.
-            uint32_t i = count++;
-            for (; i > 0 && keys[i - 1] < key; --i) keys[i] = keys[i - 1];
-            keys[i] = key;
-        }
+    uint32_t c = keys.next();
+    order(b, c), order(a, b);
+    if (count == 3) {
+        push(c), push(b);
+        return node.child[a & 7u];
     }
-    for (uint32_t i = 0; i + 1 < count; ++i) {
-        const uint32_t slot = uint32_t(keys[i]);
-        stack[stack_size++] = {node.child[slot].bits, t_entry[slot]};
+    uint32_t d = keys.next();
+    order(c, d), order(b, c), order(a, b);
+    if (count == 4) {
+        push(d), push(c), push(b);
+        return node.child[a & 7u];
     }
-    return node.child[uint32_t(keys[count - 1])];
+    uint32_t sorted[bvh::kWideWidth] = {d, c, b, a};  // descending: the nearest last
+    for (uint32_t n = 4; n < count; ++n) {
+        const uint32_t key = keys.next();
+        uint32_t i = n;
+        for (; i > 0 && sorted[i - 1] < key; --i) sorted[i] = sorted[i - 1];
+        sorted[i] = key;
+    }
+    for (uint32_t i = 0; i + 1 < count; ++i) push(sorted[i]);
+    return node.child[sorted[count - 1] & 7u];
 }
 
 // leaf_test(first_block, block_count, t_max) tests the leaf's primitives for
@@ -115,7 +112,7 @@ template <bvh::Query query, bool kMoving, typename LeafTest, typename PrefetchLe
         if (!current.is_leaf()) {
             const bvh::WideNode& node = bvh.nodes[current.node()];
             observer.visit_node(current.node());
-            alignas(32) float t_entry[bvh::kWideWidth];
+            EntryDistances t_entry;
             const uint32_t hits = wide_box_test<kMoving>(node, box_ray, reach, t_entry,
                                                          kMoving ? &bvh.motion[current.node()] : nullptr, ray.time);
             if (hits != 0) {
@@ -137,7 +134,8 @@ template <bvh::Query query, bool kMoving, typename LeafTest, typename PrefetchLe
                     // (1.02-1.08) over 3 runs, the other queries alike.
                     for (uint32_t rest = hits; rest != 0; rest &= rest - 1)
                         prefetch_child(bvh, node.child[__builtin_ctz(rest)], prefetch_leaf);
-                    current = push_sorted(node, hits, t_entry, stack, stack_size);
+                    HitKeys keys(t_entry, hits);
+                    current = push_sorted(node, uint32_t(__builtin_popcount(hits)), keys, stack, stack_size);
                 }
                 continue;
             }

@@ -8,11 +8,30 @@
 
 namespace rt::generic {
 
+struct EntryDistances {
+    alignas(16) float t[bvh::kWideWidth];
+};
+
 template <bool kMoving>
 [[gnu::always_inline]] inline uint32_t wide_box_test(const bvh::WideNode& node, const bvh::WideBoxRay& ray, float t_max,
-                                                     float* t_entry, const bvh::WideBoxes* motion, float time) {
-    return bvh::wide_box_test_sse2<kMoving>(node, ray, t_max, t_entry, motion, time);
+                                                     EntryDistances& t_entry, const bvh::WideBoxes* motion, float time) {
+    return bvh::wide_box_test_sse2<kMoving>(node, ray, t_max, t_entry.t, motion, time);
 }
+
+// The keys of the children a ray enters, in slot order.
+class HitKeys {
+  public:
+    HitKeys(const EntryDistances& t_entry, uint32_t hits) : t_entry_(t_entry), hits_(hits) {}
+    [[gnu::always_inline]] uint32_t next() {
+        const uint32_t slot = uint32_t(__builtin_ctz(hits_));
+        hits_ &= hits_ - 1;
+        return bvh::entry_key(t_entry_.t[slot], slot);
+    }
+
+  private:
+    const EntryDistances& t_entry_;
+    uint32_t hits_;
+};
 
 [[gnu::always_inline]] inline uint32_t intersect_block_pair(const WatertightRay4& r, const TriangleBlock* const* pair,
                                                            uint32_t count, float t_max, PairHits& hits) {
