@@ -32,6 +32,11 @@ struct WideBvh {
     // kBlockWidth entries per block, in leaf order; kNoPrim pads a leaf's last block.
     std::vector<uint32_t> prim_ids;
     uint32_t depth = 0;  // wide levels below the root, leaves counted as a level
+    // Whether a closest-hit traversal fetches every child a ray enters
+    // before it orders them (wide_traverse.inl). Its user sets it from the
+    // size of the tree and its leaves: those that the cache holds gain
+    // nothing from the fetches and pay for them.
+    bool fetch_ahead = true;
 
     bool empty() const { return nodes.empty(); }
     size_t block_count() const { return prim_ids.size() / kBlockWidth; }

@@ -131,9 +131,11 @@ template <bvh::Query query, bool kMoving, typename LeafTest, typename PrefetchLe
                     // Every child the ray enters is fetched before the sort,
                     // not as it is put aside: diffuse rays on dragon_1, 1T
                     // against rtcIntersect1, 1.02 (0.99-1.07) -> 1.08
-                    // (1.02-1.08) over 3 runs, the other queries alike.
-                    for (uint32_t rest = hits; rest != 0; rest &= rest - 1)
-                        prefetch_child(bvh, node.child[__builtin_ctz(rest)], prefetch_leaf);
+                    // (1.02-1.08) over 3 runs, the other queries alike; in a
+                    // tree the cache holds, not at all (WideBvh::fetch_ahead).
+                    if (bvh.fetch_ahead)
+                        for (uint32_t rest = hits; rest != 0; rest &= rest - 1)
+                            prefetch_child(bvh, node.child[__builtin_ctz(rest)], prefetch_leaf);
                     HitKeys keys(t_entry, hits);
                     current = push_sorted(node, uint32_t(__builtin_popcount(hits)), keys, stack, stack_size);
                 }

@@ -7,6 +7,7 @@
 
 #include "bvh/binned_sah_builder.h"
 #include "bvh/wide_collapse.h"
+#include "util/cpu_features.h"
 #include "util/parallel_runs.h"
 #include "util/thread_pool.h"
 
@@ -132,12 +133,19 @@ AccelData build_tree(const Scene& scene, size_t first, size_t count, unsigned th
     if (data.moving)
         data.blocks_motion = make_motion_blocks(data.blocks, data.bvh.prim_ids, scene.positions_close, scene.triangles, threads);
     data.bvh.prim_ids = {};
+    // Fetching ahead pays where the tree and its leaves outgrow twice the L2
+    // cache. 1T against rtcIntersect1 on the Xeon (2 MiB L2), diffuse rays
+    // without the fetches: bunny 0.94 -> 0.98, teapot 0.99 -> 1.05, dragon_4
+    // (0.6 MB) 0.88 -> 0.92, dragon_3 (2.4 MB) 0.90 -> 0.92, dragon_2 (10 MB)
+    // alike, dragon_1 (45 MB) 0.95 -> 0.90.
+    const size_t leaf_bytes = (data.blocks.size() + data.blocks_motion.size()) * sizeof(TriangleBlock);
+    data.bvh.fetch_ahead = data.bvh.node_bytes() + leaf_bytes > 2 * l2_cache_bytes();
 
     stats.nodes += data.bvh.nodes.size();
     stats.leaves += data.bvh.leaf_count();
     stats.leaf_blocks += data.blocks.size();
     stats.node_bytes += data.bvh.node_bytes();
-    stats.leaf_bytes += (data.blocks.size() + data.blocks_motion.size()) * sizeof(TriangleBlock);
+    stats.leaf_bytes += leaf_bytes;
     return data;
 }
 

@@ -1,5 +1,7 @@
 #include "util/cpu_features.h"
 
+#include <unistd.h>
+
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
@@ -54,6 +56,14 @@ const char* to_string(SimdPath path) {
 SimdPath simd_path() {
     static const SimdPath path = choose_path();
     return path;
+}
+
+size_t l2_cache_bytes() {
+    static const size_t bytes = [] {
+        const long reported = sysconf(_SC_LEVEL2_CACHE_SIZE);
+        return reported > 0 ? size_t(reported) : size_t(1) << 20;
+    }();
+    return bytes;
 }
 
 }  // namespace rt

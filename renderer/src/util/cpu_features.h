@@ -4,6 +4,8 @@
 // are picked at run time, as Embree picks its ISA.
 #pragma once
 
+#include <cstddef>
+
 namespace rt {
 
 enum class SimdPath {
@@ -23,5 +25,9 @@ const char* to_string(SimdPath path);
 inline const char* simd_path_name() { return to_string(simd_path()); }
 
 bool cpu_supports(SimdPath path);
+
+// The CPU's level-2 cache per core, as the OS reports it (1 MiB when it
+// does not); read once per process.
+size_t l2_cache_bytes();
 
 }  // namespace rt
