@@ -46,36 +46,23 @@ template <bool kMoving>
 }
 
 // The keys (bvh::entry_key) of the children a ray enters, in slot order,
-// formed in the register the box test left: reading the distances back from
-// memory would wait on forwarding a 32-byte store to 4-byte loads. With
-// AVX-512 they are packed to the front (vpcompressd, as Embree's
-// traverseClosestHitAVX512VL8 packs them) and taken from lane 0.
+// formed in the register the box test left and taken from it by a permute:
+// reading the distances back from memory waits on forwarding a 32-byte store
+// to 4-byte loads. (Packing them to the front first, by AVX-512's
+// vpcompressd as Embree's traverseClosestHitAVX512VL8 does, ran no faster.)
 class HitKeys {
   public:
-    HitKeys(const EntryDistances& t_entry, uint32_t hits) {
+    HitKeys(const EntryDistances& t_entry, uint32_t hits) : hits_(hits) {
         const __m256i slots = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
         keys_ = _mm256_or_si256(_mm256_and_si256(_mm256_castps_si256(t_entry.t), _mm256_set1_epi32(~7)), slots);
-#if defined(__AVX512VL__)
-        keys_ = _mm256_maskz_compress_epi32(__mmask8(hits), keys_);
-#else
-        hits_ = hits;
-#endif
     }
     [[gnu::always_inline]] uint32_t next() {
-#if defined(__AVX512VL__)
-        const uint32_t key = uint32_t(_mm256_cvtsi256_si32(keys_));
-        keys_ = _mm256_alignr_epi32(keys_, keys_, 1);
-        return key;
-#else
         const uint32_t slot = uint32_t(__builtin_ctz(hits_));
         hits_ &= hits_ - 1;
         return uint32_t(_mm256_cvtsi256_si32(_mm256_permutevar8x32_epi32(keys_, _mm256_set1_epi32(int(slot)))));
-#endif
     }
 
   private:
     __m256i keys_;
-#if !defined(__AVX512VL__)
-    uint32_t hits_;
-#endif
+    uint32_t hits_;  // the children yet to come
 };
