@@ -9,10 +9,10 @@
 // (occlusion queries 3-5% faster on the dragons).
 //
 // The distances are reduced as integers: a float >= +0 orders as its bits
-// do, and a negative one (-0 and the NaN that 0 * inf makes among them) has
-// its sign bit set, so it loses a signed maximum to +0. The entry distance
-// is then the scalar test's, bit for bit, from integer maxima of one cycle
-// each rather than a chain of float maxima of four. The exit planes take a
+// do, and a negative one has its sign bit set, as have -0 and the NaN that
+// 0 * inf makes (x86's default NaN), so each loses a signed maximum to +0.
+// The entry distance is then the scalar test's, bit for bit, from integer
+// maxima of one cycle each rather than a chain of float maxima of four. The exit planes take a
 // float minimum with t_max first, which drops a NaN as box_test.h does;
 // the integer minimum of what is left may pick a different negative than
 // the float one would, and treats -0 as negative: either way the ray leaves
@@ -96,9 +96,6 @@ template <bool kMoving>
     }
 }
 
-// Bit i of the result: the ray enters child i's box before t_max; t_entry[i]
-// is then where (at least 0). Lanes that miss leave t_entry meaningless.
-// `close` (the node's WideBoxes) and `time` are read only when kMoving.
 // SSE2 has no signed 32-bit maximum or minimum: a compare and a select.
 [[gnu::always_inline]] inline __m128i max_epi32_sse2(__m128i a, __m128i b) {
     const __m128i a_greater = _mm_cmpgt_epi32(a, b);
