@@ -2,9 +2,9 @@
 // queries, compiled once per SIMD path: the including file defines
 // `wide_box_test<kMoving>(node, box_ray, t_max, t_entry, close, time)` for its
 // instruction set, the EntryDistances it fills and the HitKeys that read
-// them, and includes this inside its ISA namespace (as Embree compiles its kernels once
-// per ISA, in namespace embree::isa). What the leaves hold is the caller's
-// business: it passes the leaf test.
+// them, and includes this inside its ISA namespace (as Embree compiles its
+// kernels once per ISA, in namespace embree::isa). What the leaves hold is
+// the caller's business: it passes the leaf test.
 //
 // A closest-hit query takes the children a ray enters nearest first; the
 // others wait on a stack with their entry distance, and are dropped when
