@@ -10,6 +10,7 @@ through its callers' references even after eviction.
 
 from __future__ import annotations
 
+import atexit
 import threading
 from collections import OrderedDict
 from collections.abc import Callable
@@ -27,6 +28,9 @@ MAX_SCENES = 16
 _lock = threading.Lock()
 _scenes: OrderedDict[str, rtcore.Scene] = OrderedDict()
 _loading: dict[str, threading.Lock] = {}
+# Dropped as the interpreter exits, before rtcore's own teardown: otherwise
+# nanobind reports the scenes still held here as leaked.
+atexit.register(_scenes.clear)
 
 
 def _memory_short() -> bool:

@@ -12,6 +12,7 @@ other fetches the scene from the server and sends the layers back
 
 from __future__ import annotations
 
+import atexit
 import threading
 import time
 from collections import OrderedDict
@@ -49,6 +50,8 @@ TILE_STARTED_TOPIC = "rt-tile-started"
 KEPT_STOPS = 1024
 _stops: OrderedDict[str, rtcore.StopSource] = OrderedDict()
 _stops_lock = threading.Lock()
+# Dropped at exit, as scene_cache's scenes are.
+atexit.register(_stops.clear)
 
 
 def _stop_source(run_id: str) -> rtcore.StopSource:
