@@ -5,22 +5,16 @@ as leaked ("likely caused by a reference counting issue in the binding
 code") each time a server or worker stops."""
 import os
 import signal
-import socket
 import subprocess
 import sys
 import time
 from pathlib import Path
 
 import httpx
+from live_server import free_port
 
 ROOT = Path(__file__).resolve().parents[3]
 SCENE = ROOT / "build" / "scenes" / "smooth_sphere.glb"
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def wait_for(check, seconds: float):
