@@ -12,8 +12,9 @@
 // do, and a negative one has its sign bit set, as have -0 and the NaN that
 // 0 * inf makes (x86's default NaN), so each loses a signed maximum to +0.
 // The entry distance is then the scalar test's, bit for bit, from integer
-// maxima of one cycle each rather than a chain of float maxima of four. The exit planes take a
-// float minimum with t_max first, which drops a NaN as box_test.h does;
+// maxima of one cycle each rather than a chain of float maxima of four. The
+// exit planes take a float minimum with t_max first, which drops a NaN as
+// box_test.h does;
 // the integer minimum of what is left may pick a different negative than
 // the float one would, and treats -0 as negative: either way the ray leaves
 // the box by t = 0, where no hit counts, so only boxes touched at t = 0 and

@@ -7,26 +7,14 @@ import os
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import httpx
 from live_server import free_port
+from waiting import wait_until
 
 ROOT = Path(__file__).resolve().parents[3]
 SCENE = ROOT / "build" / "scenes" / "smooth_sphere.glb"
-
-
-def wait_for(check, seconds: float):
-    deadline = time.monotonic() + seconds
-    while time.monotonic() < deadline:
-        try:
-            if value := check():
-                return value
-        except httpx.HTTPError:
-            pass
-        time.sleep(0.1)
-    raise AssertionError("timed out")
 
 
 def test_a_server_stopped_after_a_job_reports_no_leaks(tmp_path):
@@ -37,12 +25,12 @@ def test_a_server_stopped_after_a_job_reports_no_leaks(tmp_path):
     server = subprocess.Popen([sys.executable, "-m", "app"], env=env, cwd=ROOT, stdout=subprocess.DEVNULL,
                               stderr=subprocess.PIPE, text=True)
     try:
-        wait_for(lambda: httpx.get(f"{base}/api/health").json()["workers"], 60)
+        wait_until(lambda: httpx.get(f"{base}/api/health").json()["workers"], 60, "the server's worker")
         with open(SCENE, "rb") as f:
             scene = httpx.post(f"{base}/api/scenes", files={"file": (SCENE.name, f)}, timeout=60).json()
         job = httpx.post(f"{base}/api/jobs", json={"scene_id": scene["id"], "settings": {"width": 32, "height": 32}})
         job_id = job.json()["id"]
-        wait_for(lambda: httpx.get(f"{base}/api/jobs/{job_id}").json()["state"] == "DONE", 60)
+        wait_until(lambda: httpx.get(f"{base}/api/jobs/{job_id}").json()["state"] == "DONE", 60, "the job")
     finally:
         server.send_signal(signal.SIGINT)  # as Ctrl-C stops make run
         _, stderr = server.communicate(timeout=60)
